@@ -26,4 +26,14 @@ void copy_interior(const Field& src, Field& dst) {
       std::memcpy(&dst(0, j, k), &src(0, j, k), sizeof(double) * n);
 }
 
+void add_constant(Field& f, double c) {
+  const int n = f.n();
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      double* p = &f(0, j, k);
+      for (int i = 0; i < n; ++i) p[i] += c;
+    }
+}
+
 }  // namespace cmcsurf

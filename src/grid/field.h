@@ -44,7 +44,7 @@ class Field {
     return (k + ghost_) * sz_ + (j + ghost_) * sy_ + (i + ghost_);
   }
   double& operator()(int i, int j, int k) { return data_[index(i, j, k)]; }
-  double operator()(int i, int j, int k) const { return data_[index(i, j, k)]; }
+  const double& operator()(int i, int j, int k) const { return data_[index(i, j, k)]; }
 
   double* data() { return data_.data(); }
   const double* data() const { return data_.data(); }
@@ -76,5 +76,8 @@ void for_each_cell(int n, F&& f) {
 
 // Copies the interior of src into dst (same n, any ghost widths).
 void copy_interior(const Field& src, Field& dst);
+
+// Adds c to every interior value (ghosts are left for the next halo exchange).
+void add_constant(Field& f, double c);
 
 }  // namespace cmcsurf

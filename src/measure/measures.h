@@ -40,12 +40,18 @@ double area_ref(const Field& phi, double epsilon);
 // H = -1/2 sum(kappa w) / sum(w) with w = |grad_d phi|^2 (fourth-order gradient).
 // Sign: H = 1/r > 0 for a sphere of phase 1 (phi > 1/2 inside) of radius r, as in Section 2.5.
 // Needs ghost >= 2.
+// Vertices where |m| < 1e-12 / (4h) (no phi variation around them) get n = 0.
 double mean_curvature(const Field& phi);
+double mean_curvature_ref(const Field& phi);  // plain loop twin of mean_curvature
 
-// Mean curvature from the chemical potential (Section 2.5). With our time scaling
-// nu = W'(phi) - eps^2 Lap_d phi equals eps/(6 sqrt2) mu, so H ~ mu/3 becomes
-// H ~ 2 sqrt2 nu / eps. Returned as the |grad_d phi|^2-weighted average over the grid.
-// Needs ghost >= 2.
+// Mean curvature from the chemical potential (Section 2.5). Our nu = W'(phi) - eps^2 Lap_d phi
+// equals eps/(6 sqrt2) mu. At an equilibrium mu is constant and the solvability (Gibbs-Thomson)
+// condition of the sharp-interface limit gives mu [phi] = sigma 2H with jump [phi] = 1 and
+// surface tension sigma = 1 (F is normalised so that F -> area), i.e. H = mu/2 = 3 sqrt2 nu/eps.
+// The paper's H ~ mu/3 comes from evaluating its pointwise relation only at phi = 1/2 and is
+// 2/3 of the geometric value at equilibrium (see docs/method.md). Returned as the
+// |grad_d phi|^2-weighted average over the grid. Away from equilibrium the factor depends on
+// the profile: for the tanh profile of a surface it returns (6/5) H. Needs ghost >= 2.
 double mean_curvature_mu(const Field& phi, double epsilon);
 
 }  // namespace cmcsurf

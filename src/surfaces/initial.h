@@ -31,6 +31,13 @@ struct InitialFieldParams {
   std::uint64_t seed = 1;
 };
 
+// True for the nodal surfaces of the table and for user formulas "expr:<formula>".
+bool is_nodal_surface(const std::string& name);
+
+// Throws std::invalid_argument (naming the accepted surfaces, or with muParser's message and
+// position for a bad "expr:" formula) unless `name` can be passed to make_initial_field.
+void validate_surface(const std::string& name);
+
 // Value of the nodal formula at a point of the unit cell (x, y, z in [0, 1)), for nodal
 // surfaces only; the formulas are those of Eqs. (7)-(9), including their +0.5 offset.
 double nodal_value(const std::string& surface, double x, double y, double z);

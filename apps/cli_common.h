@@ -1,0 +1,52 @@
+// Shared pieces of the command line: option groups, validation, progress and exit codes.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "pipeline/cmc.h"
+
+namespace cmcsurf::cli {
+
+// Exit codes: 0 done, 1 run failed (divergence, I/O), 2 bad input (nothing written).
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+// Thrown by validation with a message naming the option and the accepted range.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Options shared by run, sweep and verify: everything in RunParams.
+struct RunOptionStrings {
+  std::string stop = "area";
+  std::string smoother = "redblack";
+};
+void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
+// Converts the strings and checks every range; throws UsageError.
+void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);
+
+// Sets the OpenMP thread count (0 keeps the default) and returns the count in use.
+int apply_threads(int threads);
+
+// Prints a step line to stderr: in place on a terminal (at most ~10 per second), otherwise a
+// line every few seconds and at each new stage.
+class Progress {
+ public:
+  explicit Progress(bool quiet);
+  void step(const StepRecord& r);
+  void finish();
+
+ private:
+  bool quiet_, tty_;
+  double last_print_ = -1.0;
+  std::string last_stage_;
+  bool pending_newline_ = false;
+  StepRecord last_;
+  bool last_printed_ = true;
+  void print(const StepRecord& r, bool new_stage);
+};
+
+std::string version_string();
+
+}  // namespace cmcsurf::cli

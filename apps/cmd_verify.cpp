@@ -1,0 +1,140 @@
+// cmcsurf verify: the paper's verification experiments beside the paper's numbers.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "pipeline/verify.h"
+
+namespace cmcsurf::cli {
+
+namespace {
+
+struct VerifyCommand {
+  bool with_256 = false;
+  bool quiet = false;
+  int threads = 0;
+  int transition_grid = 128;
+  int cube_steps = 400;
+  int sphere_max_steps = 20000;
+  std::string only;
+};
+
+void print_transition(const VerifyCommand& c) {
+  fmt::print("\n== Section 4.1: transition layer width for epsilon_m ==\n");
+  fmt::print("phi(x,0) = 0.5 + 0.01 rand(x) on {}^3 (constant in y, z), dt = 0.05, t = 10\n",
+             c.transition_grid);
+  fmt::print("{:>3} {:>10} {:>10} {:>22} {:>16}\n", "m", "epsilon_m", "interfaces",
+             "0.1->0.9 width (cells)", "paper");
+  for (int m : {4, 8}) {
+    Progress progress(c.quiet);
+    const auto r = verify_transition_layer(m, c.transition_grid, 10.0, 1,
+                                           [&](const StepRecord& s) { progress.step(s); });
+    progress.finish();
+    fmt::print("{:>3} {:>10.6f} {:>10} {:>10.3f} [{:.2f}, {:.2f}] {:>16}\n", m, r.epsilon,
+               r.interfaces, r.mean_width_cells, r.min_width_cells, r.max_width_cells,
+               m == 4 ? "about 4 cells" : "-");
+  }
+}
+
+void print_cube(const VerifyCommand& c) {
+  fmt::print("\n== Section 4.2: a cube relaxes toward a sphere ==\n");
+  fmt::print("64^3, h = 1/64, dt = h, epsilon = 0.015, up to {} steps (stop ||dphi|| <= 1e-5)\n",
+             c.cube_steps);
+  Progress progress(c.quiet);
+  const auto r =
+      verify_cube_to_sphere(64, c.cube_steps, 1e-5, [&](const StepRecord& s) { progress.step(s); });
+  progress.finish();
+  fmt::print("{:<34} {:>10} {:>10}\n", "", "initial", "final");
+  fmt::print("{:<34} {:>10.4f} {:>10.4f}   (cube 0.806, sphere 1)\n",
+             "sphericity pi^(1/3)(6V)^(2/3)/A", r.sphericity_initial, r.sphericity_final);
+  fmt::print("{:<34} {:>10.4f} {:>10.4f}   (cube 0.577, sphere 1)\n",
+             "axis / diagonal radius of phi=1/2", r.radius_ratio_initial, r.radius_ratio_final);
+  fmt::print("mean radius {:.4f} (sphere of the cube's volume: {:.4f}); {} steps, t = {:.3f}\n",
+             r.mean_radius_final, std::cbrt(3.0 * 0.125 / (4.0 * M_PI)), r.run.steps,
+             r.run.history.empty() ? 0.0 : r.run.history.back().time);
+}
+
+void print_table1(const VerifyCommand& c) {
+  fmt::print("\n== Section 4.3, Table 1: sphere r = 0.25, epsilon = 0.0073*64/N, dt = h ==\n");
+  fmt::print("stop ||phi^(n+1) - phi^n|| <= 1e-5; exact area pi/4 = {:.5f}, total mean "
+             "curvature pi = {:.5f}\n",
+             M_PI / 4, M_PI);
+  struct Paper {
+    int n;
+    double area, tmc;
+  };
+  const std::vector<Paper> paper = {
+      {32, 0.42403, 2.25072}, {64, 0.66323, 2.89797}, {128, 0.73742, 3.06842},
+      {256, 0.76923, 3.13601}};
+  std::vector<SphereConvergenceRow> rows;
+  for (const Paper& ref : paper) {
+    if (ref.n == 256 && !c.with_256) continue;
+    Progress progress(c.quiet);
+    rows.push_back(verify_sphere(ref.n, 1e-5, c.sphere_max_steps,
+                                 [&](const StepRecord& s) { progress.step(s); }));
+    progress.finish();
+  }
+  fmt::print("{:>5} {:>9} | {:>9} {:>9} {:>6} {:>6} | {:>9} {:>9} {:>6} {:>6} | {:>6} {:>8}\n",
+             "N", "epsilon", "area", "paper", "rate", "paper", "H*A", "paper", "rate", "paper",
+             "steps", "seconds");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    const Paper& ref = paper[i];
+    std::string ra = "", rt = "", pa = "", pt = "";
+    if (i + 1 < rows.size()) {
+      ra = fmt::format("{:.2f}", std::log2(std::abs(M_PI / 4 - r.area) /
+                                           std::abs(M_PI / 4 - rows[i + 1].area)));
+      rt = fmt::format("{:.2f}", std::log2(std::abs(M_PI - r.total_mean_curvature) /
+                                           std::abs(M_PI - rows[i + 1].total_mean_curvature)));
+    }
+    if (i + 1 < paper.size()) {
+      pa = fmt::format("{:.2f}", std::log2((M_PI / 4 - ref.area) / (M_PI / 4 - paper[i + 1].area)));
+      pt = fmt::format("{:.2f}", std::log2((M_PI - ref.tmc) / (M_PI - paper[i + 1].tmc)));
+    }
+    fmt::print("{:>5} {:>9.6f} | {:>9.5f} {:>9.5f} {:>6} {:>6} | {:>9.5f} {:>9.5f} {:>6} {:>6} | "
+               "{:>6} {:>8.1f}\n",
+               r.n, r.epsilon, r.area, ref.area, ra, pa, r.total_mean_curvature, ref.tmc, rt, pt,
+               r.steps, r.wall_seconds);
+  }
+  fmt::print("relative difference to the paper: ");
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    fmt::print("N={}: area {:+.2f}%, H*A {:+.2f}%  ", rows[i].n,
+               100 * (rows[i].area / paper[i].area - 1),
+               100 * (rows[i].total_mean_curvature / paper[i].tmc - 1));
+  fmt::print("\n");
+}
+
+}  // namespace
+
+CommandFn add_verify_command(CLI::App& root) {
+  auto cmd = std::make_shared<VerifyCommand>();
+  CLI::App* app = root.add_subcommand(
+      "verify", "Reproduce the paper's verification: Section 4.1, Section 4.2 and Table 1");
+  app->add_flag("--with-256", cmd->with_256, "Also run Table 1 at 256^3 (long)");
+  app->add_option("--only", cmd->only, "Run one experiment: transition, cube or table1")
+      ->check(CLI::IsMember({"transition", "cube", "table1"}));
+  app->add_option("--transition-grid", cmd->transition_grid,
+                  "Grid of the Section 4.1 experiment (paper: h = 1/128)")
+      ->capture_default_str();
+  app->add_option("--cube-steps", cmd->cube_steps, "Step limit of the Section 4.2 experiment")
+      ->capture_default_str();
+  app->add_option("--threads", cmd->threads, "OpenMP threads (0: default)")->capture_default_str();
+  app->add_flag("--quiet", cmd->quiet, "No progress output");
+  return {app, [cmd]() -> int {
+            const std::string problem = check_coarsenable(cmd->transition_grid);
+            if (!problem.empty()) throw UsageError("--transition-grid: " + problem);
+            if (cmd->cube_steps < 1)
+              throw UsageError(fmt::format("--cube-steps: got {}; accepted: >= 1", cmd->cube_steps));
+            const int threads = apply_threads(cmd->threads);
+            fmt::print("cmcsurf {} verify ({} threads)\n", version_string(), threads);
+            if (cmd->only.empty() || cmd->only == "transition") print_transition(*cmd);
+            if (cmd->only.empty() || cmd->only == "cube") print_cube(*cmd);
+            if (cmd->only.empty() || cmd->only == "table1") print_table1(*cmd);
+            return 0;
+          }};
+}
+
+}  // namespace cmcsurf::cli

@@ -1,0 +1,54 @@
+// One convex-splitting time step phi^n -> phi^{n+1} of Eqs. (5)-(6), solved by FAS V-cycles.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "cahn_hilliard/operator.h"
+#include "multigrid/fas.h"
+
+namespace cmcsurf {
+
+struct StepSolverOptions {
+  FasOptions fas;
+  double tol = 1e-9;      // stop V-cycles when the defect norm (ChOperator::norm) is below this
+  int max_vcycles = 100;  // per time step
+  // A defect this many times above the step's first defect, or not finite, is divergence.
+  double divergence_factor = 1e6;
+};
+
+struct StepStats {
+  int vcycles = 0;
+  double residual = 0.0;      // defect norm after the last V-cycle
+  double first_residual = 0.0;
+  bool converged = false;
+};
+
+// Thrown when the V-cycles diverge or produce NaN; what() is the diagnosis.
+class SolverDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ChStepper {
+ public:
+  ChStepper(int n, const ChParams& params, const StepSolverOptions& options);
+
+  const ChParams& params() const { return op_.params(); }
+  void set_params(const ChParams& params);
+
+  // Advances phi (halo refreshed on return) by one step dt. nu from the previous step is the
+  // initial guess; on the first step or after reset_nu() it is initialised from phi.
+  StepStats step(Field& phi);
+  void reset_nu() { nu_valid_ = false; }
+  const Field& nu() const { return solver_.solution()[1]; }
+  FasSolver& solver() { return solver_; }
+
+ private:
+  ChOperator op_;
+  StepSolverOptions options_;
+  FasSolver solver_;
+  bool nu_valid_ = false;
+};
+
+}  // namespace cmcsurf

@@ -1,0 +1,85 @@
+#include "io/atomic_file.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <system_error>
+
+#include <fmt/core.h>
+
+namespace cmcsurf {
+
+namespace {
+
+std::filesystem::path temp_name_for(const std::filesystem::path& target) {
+  static std::atomic<unsigned long> seq{0};
+  std::filesystem::path temp = target;
+  temp += fmt::format(".tmp.{}.{}", static_cast<long>(::getpid()), seq++);
+  return temp;
+}
+
+}  // namespace
+
+AtomicWriter::AtomicWriter(std::filesystem::path target)
+    : target_(std::move(target)), temp_(temp_name_for(target_)) {
+  errno = 0;
+  out_.open(temp_, std::ios::binary | std::ios::trunc);
+  if (!out_) {
+    const int err = errno;
+    throw std::runtime_error(fmt::format("cannot open '{}' for writing (temporary '{}'): {}",
+                                         target_.string(), temp_.string(),
+                                         err ? std::strerror(err) : "unknown error"));
+  }
+}
+
+AtomicWriter::~AtomicWriter() {
+  if (committed_) return;
+  out_.close();
+  std::error_code ec;
+  std::filesystem::remove(temp_, ec);  // best effort; destructors do not throw
+}
+
+void AtomicWriter::commit() {
+  if (committed_) throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
+  errno = 0;
+  out_.flush();
+  const bool write_ok = static_cast<bool>(out_);
+  const int write_err = errno;
+  out_.close();
+  if (!write_ok || !out_) {
+    const int err = write_err ? write_err : errno;
+    throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): {}", target_.string(),
+                                         temp_.string(), err ? std::strerror(err) : "stream error"));
+  }
+  if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
+    const int err = errno;
+    throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", temp_.string(),
+                                         target_.string(), std::strerror(err)));
+  }
+  committed_ = true;
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view contents) {
+  AtomicWriter writer(path);
+  writer.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
+  writer.commit();
+}
+
+void ensure_directory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(dir, ec);
+  if (std::filesystem::is_directory(status)) return;
+  if (std::filesystem::exists(status))
+    throw std::runtime_error(
+        fmt::format("cannot create directory '{}': it exists and is not a directory", dir.string()));
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw std::runtime_error(
+        fmt::format("cannot create directory '{}': {}", dir.string(), ec.message()));
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,44 @@
+// VTK XML ImageData (.vti) writer and reader for cell-centred scalar fields.
+//
+// Layout written: WholeExtent "0 N-1 0 N-1 0 N-1", Origin "h/2 h/2 h/2",
+// Spacing "h h h", so VTK points sit at the cell centres and ParaView's
+// Contour filter applies directly. Values are PointData (x fastest) in a raw
+// <AppendedData> section, each array prefixed by a UInt64 byte count.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+struct VtiArray {
+  std::string name;
+  const Field* field;
+};
+
+// Writes the arrays (same N, unique non-empty names; the first is the active
+// Scalars) atomically. Float64 unless float32. Metadata goes into an XML
+// comment "<!-- cmcsurf" with one "key=value" line each (backslash escapes for
+// '\\', control characters, '=' in keys and "--"), and values that parse as
+// finite numbers also become one-tuple Float64 <FieldData> arrays.
+void write_vti(const std::filesystem::path& path, const std::vector<VtiArray>& arrays,
+               bool float32 = false, const std::map<std::string, std::string>& metadata = {});
+
+struct VtiData {
+  int n = 0;
+  std::map<std::string, Field> arrays;
+  std::map<std::string, std::string> metadata;  // from the cmcsurf comment, if any
+};
+
+// Reads raw appended, little-endian, UInt32/UInt64 header, Float32/Float64
+// PointData on a cubic extent 0..N-1 (Origin and Spacing are not used: the
+// grid is the unit cube). Each Field gets `ghost` layers, filled by
+// exchange_halo(). Anything else throws std::runtime_error saying what was
+// found and what is supported.
+VtiData read_vti(const std::filesystem::path& path, int ghost = 1);
+
+}  // namespace cmcsurf

@@ -1,0 +1,323 @@
+#include "measure/measures.h"
+
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "grid/stencil.h"
+
+namespace cmcsurf {
+namespace {
+
+constexpr double kSixSqrt2 = 6.0 * std::numbers::sqrt2;
+
+// Below this |sum of phi differences| around a vertex (|m| < kFlatVertex / (4h)) the vertex
+// normal is set to zero instead of dividing 0 by 0. Such vertices lie in bulk phase, where the
+// weight |grad_d phi|^2 is negligible anyway.
+constexpr double kFlatVertex = 1e-12;
+
+// Stencils need `needed` ghost layers; a narrower halo is a programming error of the caller.
+void require_ghost(const Field& phi, int needed, const char* who) {
+  if (phi.ghost() < needed)
+    throw std::invalid_argument(std::string(who) + ": needs ghost >= " + std::to_string(needed) +
+                                ", got " + std::to_string(phi.ghost()));
+}
+
+// 12h times the fourth-order central difference along stride s (Appendix B).
+inline double diff4_scaled(const double* p, std::ptrdiff_t s) {
+  return (p[-2 * s] - p[2 * s]) + 8.0 * (p[s] - p[-s]);
+}
+
+// (12h)^2 |grad_d phi|^2 at p.
+inline double grad4_sq_scaled(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz) {
+  const double gx = diff4_scaled(p, 1);
+  const double gy = diff4_scaled(p, sy);
+  const double gz = diff4_scaled(p, sz);
+  return gx * gx + gy * gy + gz * gz;
+}
+
+// Sum over interior cells of term(p), p pointing at the cell in phi's padded storage:
+// OpenMP over k planes, unit-stride SIMD loop over i.
+template <class Term>
+double sum_cells(const Field& phi, Term term) {
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double* origin = phi.data() + phi.index(0, 0, 0);
+  double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) schedule(static)
+  for (int k = 0; k < n; ++k) {
+    double plane = 0.0;
+    for (int j = 0; j < n; ++j) {
+      const double* row = origin + k * sz + j * sy;
+      const Term local = term;  // a thread-local copy keeps captured strides in registers
+      double s = 0.0;
+#pragma omp simd reduction(+ : s)
+      for (int i = 0; i < n; ++i) s += local(row + i);
+      plane += s;
+    }
+    sum += plane;
+  }
+  return sum;
+}
+
+// Two sums at once (weighted averages): term(p, &a, &b) adds to a and b.
+template <class Term>
+std::pair<double, double> sum_cells2(const Field& phi, Term term) {
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double* origin = phi.data() + phi.index(0, 0, 0);
+  double sum_a = 0.0, sum_b = 0.0;
+#pragma omp parallel for reduction(+ : sum_a, sum_b) schedule(static)
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      const double* row = origin + k * sz + j * sy;
+      const Term local = term;  // as in sum_cells
+      double a = 0.0, b = 0.0;
+#pragma omp simd reduction(+ : a, b)
+      for (int i = 0; i < n; ++i) local(row + i, a, b);
+      sum_a += a;
+      sum_b += b;
+    }
+  }
+  return {sum_a, sum_b};
+}
+
+// Unit vertex normals n = m/|m| on one plane of vertices (Appendix B). Vertex (i, j, kv)
+// sits at the common corner of cells i..i+1, j..j+1, kv..kv+1 (the paper's i+1/2, j+1/2,
+// kv+1/2); i, j run over -1..n-1 and are stored at a = i+1, b = j+1, index b*(n+1) + a.
+struct VertexPlane {
+  std::vector<double> nx, ny, nz;
+  explicit VertexPlane(int n) : nx(std::size_t(n + 1) * (n + 1)), ny(nx.size()), nz(nx.size()) {}
+};
+
+void vertex_normals(const Field& phi, int kv, VertexPlane& out) {
+  const int n = phi.n(), nv = n + 1;
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  for (int j = -1; j < n; ++j) {
+    const double* row = phi.data() + phi.index(-1, j, kv);
+    double* nx = out.nx.data() + std::size_t(j + 1) * nv;
+    double* ny = out.ny.data() + std::size_t(j + 1) * nv;
+    double* nz = out.nz.data() + std::size_t(j + 1) * nv;
+#pragma omp simd
+    for (int a = 0; a < nv; ++a) {
+      const double* p = row + a;
+      const double c000 = p[0], c100 = p[1], c010 = p[sy], c110 = p[sy + 1];
+      const double c001 = p[sz], c101 = p[sz + 1], c011 = p[sz + sy], c111 = p[sz + sy + 1];
+      // 4h m: the four cells on the + side minus the four on the - side.
+      const double mx = (c100 + c110 + c101 + c111) - (c000 + c010 + c001 + c011);
+      const double my = (c010 + c110 + c011 + c111) - (c000 + c100 + c001 + c101);
+      const double mz = (c001 + c101 + c011 + c111) - (c000 + c100 + c010 + c110);
+      const double norm = std::sqrt(mx * mx + my * my + mz * mz);
+      const double inv = norm > kFlatVertex ? 1.0 / norm : 0.0;
+      nx[a] = mx * inv;
+      ny[a] = my * inv;
+      nz[a] = mz * inv;
+    }
+  }
+}
+
+}  // namespace
+
+double mass(const Field& phi) {
+  return sum_cells(phi, [](const double* p) { return p[0]; }) / double(phi.interior_size());
+}
+
+double volume_fraction(const Field& phi) {
+  return sum_cells(phi, [](const double* p) { return p[0] > 0.5 ? 1.0 : 0.0; }) /
+         double(phi.interior_size());
+}
+
+double l2_norm(const Field& a) {
+  return std::sqrt(sum_cells(a, [](const double* p) { return p[0] * p[0]; }) /
+                   double(a.interior_size()));
+}
+
+double l2_diff(const Field& a, const Field& b) {
+  if (a.n() != b.n()) throw std::invalid_argument("l2_diff: fields of different size");
+  const int n = a.n();
+  double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) schedule(static)
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      const double* pa = &a(0, j, k);
+      const double* pb = &b(0, j, k);
+      double s = 0.0;
+#pragma omp simd reduction(+ : s)
+      for (int i = 0; i < n; ++i) s += (pa[i] - pb[i]) * (pa[i] - pb[i]);
+      sum += s;
+    }
+  }
+  return std::sqrt(sum / double(a.interior_size()));
+}
+
+// Section 2.2: F = 6 sqrt2 sum [W/eps + eps/2 |grad_h phi|^2] h^3, forward face differences.
+double energy(const Field& phi, double epsilon) {
+  require_ghost(phi, 1, "energy");
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  const double c_grad = 0.5 * epsilon / (h * h);
+  const double inv_eps = 1.0 / epsilon;
+  const double sum = sum_cells(phi, [=](const double* p) {
+    const double dx = p[1] - p[0], dy = p[sy] - p[0], dz = p[sz] - p[0];
+    return double_well(p[0]) * inv_eps + c_grad * (dx * dx + dy * dy + dz * dz);
+  });
+  return kSixSqrt2 * sum * h * h * h;
+}
+
+// Appendix B: A = sum 6 sqrt2 eps |grad_d phi|^2 h^3.
+double area(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "area");
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  const double sum = sum_cells(phi, [=](const double* p) { return grad4_sq_scaled(p, sy, sz); });
+  return kSixSqrt2 * epsilon * sum / (144.0 * h * h) * h * h * h;
+}
+
+double area_ref(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "area_ref");
+  const int n = phi.n();
+  const double h = phi.h();
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double gx = (phi(i - 2, j, k) - 8.0 * phi(i - 1, j, k) + 8.0 * phi(i + 1, j, k) -
+                           phi(i + 2, j, k)) /
+                          (12.0 * h);
+        const double gy = (phi(i, j - 2, k) - 8.0 * phi(i, j - 1, k) + 8.0 * phi(i, j + 1, k) -
+                           phi(i, j + 2, k)) /
+                          (12.0 * h);
+        const double gz = (phi(i, j, k - 2) - 8.0 * phi(i, j, k - 1) + 8.0 * phi(i, j, k + 1) -
+                           phi(i, j, k + 2)) /
+                          (12.0 * h);
+        sum += 6.0 * std::sqrt(2.0) * epsilon * (gx * gx + gy * gy + gz * gz) * h * h * h;
+      }
+  return sum;
+}
+
+// Appendix B: kappa = div_d(m/|m|) at cell centres from the 8 vertex normals of each cell,
+// H = -1/2 sum(kappa w) / sum(w), w = |grad_d phi|^2. Each thread sweeps a contiguous block of
+// k planes, keeping the vertex planes below and above the current cell plane.
+double mean_curvature(const Field& phi) {
+  require_ghost(phi, 2, "mean_curvature");
+  const int n = phi.n(), nv = n + 1;
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  double sum_kw = 0.0, sum_w = 0.0;
+#pragma omp parallel reduction(+ : sum_kw, sum_w)
+  {
+    VertexPlane below(n), above(n);
+    int last_k = -2;
+#pragma omp for schedule(static)
+    for (int k = 0; k < n; ++k) {
+      if (last_k == k - 1) {
+        std::swap(below, above);
+      } else {
+        vertex_normals(phi, k - 1, below);
+      }
+      vertex_normals(phi, k, above);
+      last_k = k;
+      for (int j = 0; j < n; ++j) {
+        const double* row = phi.data() + phi.index(0, j, k);
+        // Vertex (i-1, j-1) of a plane is at a = i, b = j; (i, j) at a = i+1, b = j+1.
+        const std::size_t lo = std::size_t(j) * nv, hi = std::size_t(j + 1) * nv;
+        const double* bx = below.nx.data();
+        const double* by = below.ny.data();
+        const double* bz = below.nz.data();
+        const double* ax = above.nx.data();
+        const double* ay = above.ny.data();
+        const double* az = above.nz.data();
+        double s_kw = 0.0, s_w = 0.0;
+#pragma omp simd reduction(+ : s_kw, s_w)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t l0 = lo + i, l1 = lo + i + 1, h0 = hi + i, h1 = hi + i + 1;
+          const double div_x =
+              (bx[l1] + bx[h1] + ax[l1] + ax[h1]) - (bx[l0] + bx[h0] + ax[l0] + ax[h0]);
+          const double div_y =
+              (by[h0] + by[h1] + ay[h0] + ay[h1]) - (by[l0] + by[l1] + ay[l0] + ay[l1]);
+          const double div_z =
+              (az[l0] + az[l1] + az[h0] + az[h1]) - (bz[l0] + bz[l1] + bz[h0] + bz[h1]);
+          const double w = grad4_sq_scaled(row + i, sy, sz);
+          s_kw += (div_x + div_y + div_z) * w;
+          s_w += w;
+        }
+        sum_kw += s_kw;
+        sum_w += s_w;
+      }
+    }
+  }
+  if (sum_w == 0.0) return 0.0;  // constant field: no interface
+  return -0.5 * (sum_kw / (4.0 * h)) / sum_w;
+}
+
+double mean_curvature_ref(const Field& phi) {
+  require_ghost(phi, 2, "mean_curvature_ref");
+  const int n = phi.n();
+  const double h = phi.h();
+  // Unit normal at the vertex shared by cells i..i+1, j..j+1, k..k+1.
+  auto normal = [&](int i, int j, int k, double n_out[3]) {
+    double m[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c <= 1; ++c)
+      for (int b = 0; b <= 1; ++b)
+        for (int a = 0; a <= 1; ++a) {
+          const double v = phi(i + a, j + b, k + c) / (4.0 * h);
+          m[0] += a ? v : -v;
+          m[1] += b ? v : -v;
+          m[2] += c ? v : -v;
+        }
+    const double norm = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    for (int d = 0; d < 3; ++d) n_out[d] = norm * 4.0 * h > kFlatVertex ? m[d] / norm : 0.0;
+  };
+  double sum_kw = 0.0, sum_w = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        double kappa = 0.0;
+        for (int c = 0; c <= 1; ++c)
+          for (int b = 0; b <= 1; ++b)
+            for (int a = 0; a <= 1; ++a) {
+              double nv[3];
+              normal(i - 1 + a, j - 1 + b, k - 1 + c, nv);
+              kappa +=
+                  ((a ? nv[0] : -nv[0]) + (b ? nv[1] : -nv[1]) + (c ? nv[2] : -nv[2])) / (4.0 * h);
+            }
+        const double gx = (phi(i - 2, j, k) - 8.0 * phi(i - 1, j, k) + 8.0 * phi(i + 1, j, k) -
+                           phi(i + 2, j, k)) /
+                          (12.0 * h);
+        const double gy = (phi(i, j - 2, k) - 8.0 * phi(i, j - 1, k) + 8.0 * phi(i, j + 1, k) -
+                           phi(i, j + 2, k)) /
+                          (12.0 * h);
+        const double gz = (phi(i, j, k - 2) - 8.0 * phi(i, j, k - 1) + 8.0 * phi(i, j, k + 1) -
+                           phi(i, j, k + 2)) /
+                          (12.0 * h);
+        const double w = gx * gx + gy * gy + gz * gz;
+        sum_kw += kappa * w;
+        sum_w += w;
+      }
+  if (sum_w == 0.0) return 0.0;
+  return -0.5 * sum_kw / sum_w;
+}
+
+// Section 2.5 with mu = 6 sqrt2 nu / eps: H ~ mu / 3 = 2 sqrt2 nu / eps, averaged with weight
+// |grad_d phi|^2, nu = W'(phi) - eps^2 Lap_d phi (7-point Laplacian of Section 3).
+double mean_curvature_mu(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "mean_curvature_mu");
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  const double inv_h2 = 1.0 / (h * h);
+  const double eps2 = epsilon * epsilon;
+  const auto [sum_nw, sum_w] = sum_cells2(phi, [=](const double* p, double& nw, double& w) {
+    const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
+    const double g = grad4_sq_scaled(p, sy, sz);
+    nw += nu * g;
+    w += g;
+  });
+  if (sum_w == 0.0) return 0.0;
+  return 3.0 * std::numbers::sqrt2 / epsilon * sum_nw / sum_w;  // H = mu/2
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,116 @@
+#include "multigrid/fas.h"
+
+#include <fmt/format.h>
+
+#include "multigrid/transfer.h"
+
+namespace cmcsurf {
+
+std::vector<int> coarsening_sizes(int n) {
+  std::vector<int> sizes;
+  if (n < 1) return sizes;
+  sizes.push_back(n);
+  while (n % 2 == 0 && n > 2) {
+    n /= 2;
+    sizes.push_back(n);
+  }
+  if (sizes.size() < 3) sizes.clear();
+  return sizes;
+}
+
+std::string check_coarsenable(int n) {
+  int m = n, k = 0;
+  while (m > 0 && m % 2 == 0) {
+    m /= 2;
+    ++k;
+  }
+  if (n >= 8 && (m == 1 || m == 3 || m == 5 || m == 7) && k >= 2) return "";
+  // Suggest the nearest accepted sizes below and above.
+  auto ok = [](int c) {
+    int mm = c, kk = 0;
+    while (mm > 0 && mm % 2 == 0) {
+      mm /= 2;
+      ++kk;
+    }
+    return c >= 8 && (mm == 1 || mm == 3 || mm == 5 || mm == 7) && kk >= 2;
+  };
+  int below = n - 1, above = n + 1;
+  while (below >= 8 && !ok(below)) --below;
+  while (!ok(above)) ++above;
+  std::string near = below >= 8 ? fmt::format("{} or {}", below, above) : fmt::format("{}", above);
+  return fmt::format(
+      "must be m * 2^k with m in {{1, 3, 5, 7}}, k >= 2 and N >= 8 so that multigrid can "
+      "coarsen it; got {} (nearest accepted: {})",
+      n, near);
+}
+
+FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options)
+    : options_(options) {
+  for (int size : coarsening_sizes(n)) {
+    FasLevel level;
+    for (int c = 0; c < components; ++c) {
+      level.u.emplace_back(size, ghost);
+      level.rhs.emplace_back(size, ghost);
+      level.defect.emplace_back(size, ghost);
+      if (size != n) level.u_start.emplace_back(size, ghost);
+    }
+    levels_.push_back(std::move(level));
+  }
+}
+
+double FasSolver::residual_norm(const FasOperator& op) {
+  FasLevel& fine = levels_[0];
+  op.residual(fine.u, fine.rhs, fine.defect);
+  return op.norm(fine.defect);
+}
+
+// Steps 1-9 of the FAS cycle in Appendix A.
+void FasSolver::cycle(const FasOperator& op, int l) {
+  if (l + 1 == levels()) {
+    solve_coarsest(op, l);
+    return;
+  }
+  FasLevel& fine = levels_[l];
+  FasLevel& coarse = levels_[l + 1];
+  const int nc = int(fine.u.size());
+
+  op.smooth(fine.u, fine.rhs, options_.pre_sweeps);  // 1) presmoothing
+  op.residual(fine.u, fine.rhs, fine.defect);        // 2) defect
+  for (int c = 0; c < nc; ++c) {                     // 3) restrict defect and solution
+    restrict_average(fine.defect[c], coarse.rhs[c]);
+    restrict_average(fine.u[c], coarse.u[c]);
+    copy_interior(coarse.u[c], coarse.u_start[c]);
+  }
+  op.apply(coarse.u, coarse.defect);  // 4) coarse rhs = restricted defect + NSO(u_coarse)
+  for (int c = 0; c < nc; ++c) {
+    Field& rhs = coarse.rhs[c];
+    const Field& a = coarse.defect[c];
+    const int n = rhs.n();
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j) {
+        double* r = &rhs(0, j, k);
+        const double* av = &a(0, j, k);
+        for (int i = 0; i < n; ++i) r[i] += av[i];
+      }
+  }
+  cycle(op, l + 1);  // 5) coarse solve
+  for (int c = 0; c < nc; ++c)  // 6-8) coarse-grid correction
+    add_interpolated_correction(coarse.u[c], coarse.u_start[c], fine.u[c]);
+  op.smooth(fine.u, fine.rhs, options_.post_sweeps);  // 9) postsmoothing
+}
+
+void FasSolver::solve_coarsest(const FasOperator& op, int l) {
+  FasLevel& level = levels_[l];
+  op.residual(level.u, level.rhs, level.defect);
+  const double r0 = op.norm(level.defect);
+  const int every = std::max(1, options_.coarsest_check_every);
+  for (int done = 0; done < options_.coarsest_max_sweeps; done += every) {
+    op.smooth(level.u, level.rhs, every);
+    op.residual(level.u, level.rhs, level.defect);
+    const double r = op.norm(level.defect);
+    if (!(r > options_.coarsest_reduction * r0)) break;  // also stops on NaN
+  }
+}
+
+}  // namespace cmcsurf

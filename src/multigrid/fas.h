@@ -1,0 +1,79 @@
+// Nonlinear FAS multigrid V-cycle (Appendix A), independent of the operator it solves.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+// The unknowns of a system, one Field per component (for Cahn-Hilliard: phi and nu).
+using Fields = std::vector<Field>;
+
+// What the cycle needs from a discrete nonlinear operator A (the paper's NSO). Each call works
+// on one level; the level's mesh width is 1/u[0].n(). Kernels read ghost layers, so an operator
+// refreshes the halos of u it reads (u[c].exchange_halo()) itself.
+class FasOperator {
+ public:
+  virtual ~FasOperator() = default;
+  virtual int components() const = 0;
+  // out = A(u)
+  virtual void apply(Fields& u, Fields& out) const = 0;
+  // out = rhs - A(u)
+  virtual void residual(Fields& u, const Fields& rhs, Fields& out) const = 0;
+  // `sweeps` relaxation sweeps on A(u) = rhs.
+  virtual void smooth(Fields& u, const Fields& rhs, int sweeps) const = 0;
+  // Norm in which the cycle measures a defect.
+  virtual double norm(const Fields& defect) const = 0;
+};
+
+struct FasOptions {
+  int pre_sweeps = 2;           // beta of Appendix A
+  int post_sweeps = 2;
+  int coarsest_max_sweeps = 400;  // "solved by smoothing to convergence"
+  double coarsest_reduction = 1e-8;
+  int coarsest_check_every = 4;
+};
+
+// Sizes of the level hierarchy for a finest grid n: n, n/2, ... while the size stays even
+// and above 2. Returns an empty vector when n cannot be coarsened at least twice.
+std::vector<int> coarsening_sizes(int n);
+
+// Accepted finest sizes: n = m * 2^k with m in {1, 3, 5, 7}, n >= 8; returns "" when n is
+// accepted, or a message saying why not and which nearby sizes would be.
+std::string check_coarsenable(int n);
+
+struct FasLevel {
+  Fields u;        // current approximation
+  Fields rhs;      // right-hand side (source term on the finest level, FAS rhs below)
+  Fields defect;   // scratch: defect, then A(u_coarse)
+  Fields u_start;  // restricted approximation before the coarse solve (for the CGC)
+};
+
+class FasSolver {
+ public:
+  FasSolver(int n, int components, int ghost, const FasOptions& options);
+
+  int levels() const { return int(levels_.size()); }
+  int size(int level) const { return levels_[level].u[0].n(); }
+  // Finest-level unknowns and right-hand side, to be filled by the caller.
+  Fields& solution() { return levels_[0].u; }
+  const Fields& solution() const { return levels_[0].u; }
+  Fields& rhs() { return levels_[0].rhs; }
+  const FasOptions& options() const { return options_; }
+
+  // One V-cycle on the finest level.
+  void vcycle(const FasOperator& op) { cycle(op, 0); }
+  // Norm of rhs - A(u) on the finest level.
+  double residual_norm(const FasOperator& op);
+
+ private:
+  void cycle(const FasOperator& op, int level);
+  void solve_coarsest(const FasOperator& op, int level);
+
+  FasOptions options_;
+  std::vector<FasLevel> levels_;
+};
+
+}  // namespace cmcsurf

@@ -1,0 +1,232 @@
+#include "pipeline/cmc.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "measure/measures.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+Measures measure_field(Field& phi, double epsilon) {
+  phi.exchange_halo();
+  Measures m;
+  m.area = area(phi, epsilon);
+  m.mean_curvature = mean_curvature(phi);
+  m.mean_curvature_mu = mean_curvature_mu(phi, epsilon);
+  m.total_mean_curvature = m.mean_curvature * m.area;
+  m.volume_fraction = volume_fraction(phi);
+  m.mass = mass(phi);
+  m.energy = energy(phi, epsilon);
+  return m;
+}
+
+double average_volume_fraction(const Field& phi, double alpha, double beta) {
+  const int n = phi.n();
+  const bool upper = alpha > 0.5;
+  double sum = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : sum)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const double* p = &phi(0, j, k);
+      for (int i = 0; i < n; ++i) {
+        double v = p[i];
+        if (upper && v > beta) v = 1.0;
+        if (!upper && v < beta) v = 0.0;
+        sum += v;
+      }
+    }
+  return sum / phi.interior_size();
+}
+
+BisectionResult bisect_threshold(const Field& phi, double alpha, double tol, int max_it) {
+  auto f = [&](double beta) { return average_volume_fraction(phi, alpha, beta) - alpha; };
+  BisectionResult r;
+  r.beta = 0.0;
+  double fa = f(0.0);
+  r.iterations = 1;
+  if (std::abs(fa) < tol) {
+    r.v_ave = fa + alpha;
+    return r;
+  }
+  double a = 0.0, b = 1.0;
+  for (int k = 2; k <= max_it; ++k) {
+    const double beta = a + (b - a) / 2;
+    const double fp = f(beta);
+    r.beta = beta;
+    r.v_ave = fp + alpha;
+    r.iterations = k;
+    if (std::abs(fp) < tol || (b - a) / 2 < tol) return r;
+    if (fa * fp > 0) {
+      a = beta;
+      fa = fp;
+    } else {
+      b = beta;
+    }
+  }
+  return r;
+}
+
+void apply_threshold(Field& phi, double alpha, double beta) {
+  const int n = phi.n();
+  const bool upper = alpha > 0.5;
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      double* p = &phi(0, j, k);
+      for (int i = 0; i < n; ++i) {
+        if (upper && p[i] > beta) p[i] = 1.0;
+        if (!upper && p[i] < beta) p[i] = 0.0;
+      }
+    }
+  phi.exchange_halo();
+}
+
+void truncate_unit_interval(Field& phi) {
+  const int n = phi.n();
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      double* p = &phi(0, j, k);
+      for (int i = 0; i < n; ++i) p[i] = std::min(1.0, std::max(0.0, p[i]));
+    }
+  phi.exchange_halo();
+}
+
+void shift_mean(Field& phi, double alpha) {
+  add_constant(phi, alpha - mass(phi));
+  phi.exchange_halo();
+}
+
+namespace {
+
+// The time loop shared by the CMC algorithm and direct relaxations.
+class Evolution {
+ public:
+  Evolution(const RunParams& params, const ProgressFn& progress, RunResult& result)
+      : params_(params),
+        progress_(progress),
+        result_(result),
+        previous_(params.grid, 2),
+        stepper_(params.grid, {params.epsilon, params.dt(), params.smoother}, params.solver) {}
+
+  void set_epsilon(double eps) { stepper_.set_params({eps, params_.dt(), params_.smoother}); }
+
+  // One step at the stepper's epsilon, recorded in the history.
+  StepRecord advance(const char* stage, double area_before) {
+    Field& phi = result_.phi;
+    const double eps = stepper_.params().epsilon;
+    copy_interior(phi, previous_);
+    const auto ts = Clock::now();
+    const StepStats s = stepper_.step(phi);
+    result_.solver_seconds += seconds_since(ts);
+    result_.vcycles += s.vcycles;
+    if (!s.converged) ++result_.unconverged_steps;
+    ++step_;
+    time_ += params_.dt();
+    StepRecord r;
+    r.step = step_;
+    r.stage = stage;
+    r.time = time_;
+    r.area = area(phi, eps);
+    r.d_area = r.area - area_before;
+    r.d_phi = l2_diff(phi, previous_);
+    r.energy = energy(phi, eps);
+    r.mass = mass(phi);
+    r.vcycles = s.vcycles;
+    r.residual = s.residual;
+    r.elapsed = seconds_since(t0_);
+    if (!std::isfinite(r.area) || !std::isfinite(r.mass))
+      throw SolverDiverged("the phase field became non-finite at step " + std::to_string(step_));
+    result_.history.push_back(r);
+    if (progress_) progress_(r);
+    return r;
+  }
+
+  // Step 6 (or the whole run for sphere/cube/noise): relax at epsilon until the stop rule.
+  void relax() {
+    set_epsilon(params_.epsilon);
+    double a = area(result_.phi, params_.epsilon);
+    result_.stop_reason = "max-steps";
+    for (int s = 0; s < params_.max_steps; ++s) {
+      const StepRecord r = advance("relax", a);
+      a = r.area;
+      ++result_.steps;
+      const bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
+                                                       : r.d_phi <= params_.tol;
+      if (met) {
+        result_.converged = true;
+        result_.stop_reason = params_.stop == StopRule::kArea ? "area" : "phi";
+        break;
+      }
+    }
+    result_.final = measure_field(result_.phi, params_.epsilon);
+    result_.wall_seconds = seconds_since(t0_);
+  }
+
+ private:
+  const RunParams& params_;
+  const ProgressFn& progress_;
+  RunResult& result_;
+  Field previous_;
+  ChStepper stepper_;
+  const Clock::time_point t0_ = Clock::now();
+  int step_ = 0;
+  double time_ = 0.0;
+};
+
+}  // namespace
+
+RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress) {
+  RunResult result;
+  result.phi = Field(params.grid, 2);
+  copy_interior(phi0, result.phi);
+  result.initial = measure_field(result.phi, params.epsilon);
+  Evolution evolution(params, progress, result);
+  evolution.relax();
+  return result;
+}
+
+RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
+  InitialFieldParams init;
+  init.surface = params.surface;
+  init.epsilon = params.epsilon;
+  init.radius = params.radius;
+  init.seed = params.seed;
+  init.noise_amplitude = params.noise_amplitude;
+  if (!is_nodal_surface(params.surface)) return relax_field(make_initial_field(init, params.grid, 2), params, progress);
+
+  RunResult result;
+  result.phi = make_initial_field(init, params.grid, 2);  // step 1
+  Field& phi = result.phi;
+  truncate_unit_interval(phi);  // step 2
+  result.initial = measure_field(phi, params.epsilon);
+  Evolution evolution(params, progress, result);
+
+  const double wide = params.prerelax_epsilon_factor * params.epsilon;  // step 3
+  evolution.set_epsilon(wide);
+  double a = area(phi, wide);
+  for (int s = 0; s < params.prerelax_steps; ++s) a = evolution.advance("prerelax", a).area;
+  result.prerelax_steps = params.prerelax_steps;
+
+  result.bisection = bisect_threshold(phi, params.volume_fraction, params.bisection_tol,
+                                      params.bisection_max_it);  // step 4
+  apply_threshold(phi, params.volume_fraction, result.bisection->beta);
+  result.mass_before_shift = mass(phi);
+  shift_mean(phi, params.volume_fraction);  // step 5
+  evolution.relax();                        // step 6
+  return result;
+}
+
+}  // namespace cmcsurf

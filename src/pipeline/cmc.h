@@ -1,0 +1,113 @@
+// The CMC algorithm of Section 4.4 (steps 1-6) and direct relaxation of sphere/cube/noise.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cahn_hilliard/time_step.h"
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+enum class StopRule { kArea, kPhi };
+
+struct RunParams {
+  std::string surface = "G";
+  double volume_fraction = 0.5;  // alpha, for nodal surfaces
+  int grid = 64;
+  double epsilon = 0.01;
+  double dt_factor = 0.5;  // dt = dt_factor * h
+  StopRule stop = StopRule::kArea;
+  double tol = 1e-6;
+  int max_steps = 20000;
+  SweepOrder smoother = SweepOrder::kRedBlack;
+  double radius = 0.25;  // sphere
+  std::uint64_t seed = 1;  // noise
+  double noise_amplitude = 0.01;
+  // Step 3: a few steps with a wider interface before the bisection.
+  int prerelax_steps = 5;
+  double prerelax_epsilon_factor = 5.0;
+  // Step 4: bisection on beta.
+  double bisection_tol = 1e-6;
+  int bisection_max_it = 60;
+  StepSolverOptions solver;
+
+  double h() const { return 1.0 / grid; }
+  double dt() const { return dt_factor * h(); }
+};
+
+// The measures reported for a field (Appendix B, Section 2.5).
+struct Measures {
+  double area = 0.0;
+  double mean_curvature = 0.0;
+  double mean_curvature_mu = 0.0;
+  double total_mean_curvature = 0.0;  // mean_curvature * area, as in Table 1
+  double volume_fraction = 0.0;
+  double mass = 0.0;
+  double energy = 0.0;
+};
+// phi needs ghost >= 2; its halo is refreshed here.
+Measures measure_field(Field& phi, double epsilon);
+
+struct StepRecord {
+  int step = 0;           // counts all time steps, pre-relaxation included
+  std::string stage;      // "prerelax" (step 3, at 5 eps) or "relax" (step 6)
+  double time = 0.0;
+  double area = 0.0;      // at the stage's epsilon
+  double d_area = 0.0;    // A^{n+1} - A^n
+  double d_phi = 0.0;     // ||phi^{n+1} - phi^n||
+  double energy = 0.0;
+  double mass = 0.0;
+  int vcycles = 0;
+  double residual = 0.0;
+  double elapsed = 0.0;   // wall seconds since the run started
+};
+
+struct BisectionResult {
+  double beta = 0.0;
+  double v_ave = 0.0;
+  int iterations = 0;
+};
+
+struct RunResult {
+  Field phi;  // final field (ghost 2)
+  std::vector<StepRecord> history;
+  int steps = 0;            // relaxation steps at epsilon (step 6)
+  int prerelax_steps = 0;   // steps at 5 epsilon (step 3)
+  long vcycles = 0;         // over all steps
+  int unconverged_steps = 0;  // steps whose V-cycles hit the limit before the tolerance
+  bool converged = false;   // the stop rule was met before max_steps
+  std::string stop_reason;
+  std::optional<BisectionResult> bisection;  // nodal surfaces only
+  double mass_before_shift = 0.0;
+  Measures initial;         // phi^0 (after truncation for nodal surfaces), at epsilon
+  Measures final;
+  double wall_seconds = 0.0;
+  double solver_seconds = 0.0;  // inside the V-cycles
+};
+
+// Called after every time step with the step's record.
+using ProgressFn = std::function<void(const StepRecord&)>;
+
+// Section 4.4: V_ave(phi, alpha, beta).
+double average_volume_fraction(const Field& phi, double alpha, double beta);
+// Section 4.4's bisection on beta in [0, 1] for V_ave(phi, alpha, beta) = alpha, as printed.
+BisectionResult bisect_threshold(const Field& phi, double alpha, double tol, int max_it);
+// Step 4: phi = 1 where phi > beta (alpha > 0.5) or phi = 0 where phi < beta (alpha <= 0.5).
+void apply_threshold(Field& phi, double alpha, double beta);
+// Step 2: clamp to [0, 1].
+void truncate_unit_interval(Field& phi);
+// Step 5: phi += alpha - mean(phi).
+void shift_mean(Field& phi, double alpha);
+
+// Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
+RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress = {});
+
+// Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
+// parameters the caller should have validated.
+RunResult run_cmc(const RunParams& params, const ProgressFn& progress = {});
+
+}  // namespace cmcsurf

@@ -1,0 +1,165 @@
+#include "pipeline/verify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "measure/measures.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+double epsilon_for_cells(int m, int n) {
+  return (1.0 / n) * m / (4.0 * std::sqrt(2.0) * std::atanh(0.9));
+}
+
+TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::uint64_t seed,
+                                              const ProgressFn& progress) {
+  TransitionLayerResult out;
+  out.m = m;
+  out.n = n;
+  out.epsilon = epsilon_for_cells(m, n);
+  // 0.5 + 0.01 rand(x_i), rand uniform in [-1, 1], the same in every (y, z) line.
+  std::mt19937_64 rng(seed);
+  std::vector<double> line(n);
+  for (double& v : line) v = 0.5 + 0.01 * (2.0 * (double(rng() >> 11) * 0x1.0p-53) - 1.0);
+  Field phi0(n, 1);
+  for_each_cell(n, [&](int i, int j, int k) { phi0(i, j, k) = line[i]; });
+
+  RunParams p;
+  p.grid = n;
+  p.epsilon = out.epsilon;
+  p.dt_factor = 0.05 * n;  // dt = 0.05
+  p.stop = StopRule::kPhi;
+  p.tol = 0.0;  // run to t_end
+  p.max_steps = int(std::lround(t_end / 0.05));
+  out.run = relax_field(phi0, p, progress);
+
+  // Along x at j = k = 0: for each 0.5 crossing, the distance between the 0.1 and 0.9 levels.
+  const Field& phi = out.run.phi;
+  auto at = [&](int i) { return phi(((i % n) + n) % n, 0, 0); };
+  auto crossing = [&](int i0, int dir, double level) {  // first x past i0 where phi hits level
+    for (int s = 0; s < n; ++s) {
+      const int a = i0 + dir * s, b = a + dir;
+      const double fa = at(a), fb = at(b);
+      if ((fa - level) * (fb - level) <= 0.0 && fa != fb) return a + dir * (level - fa) / (fb - fa);
+    }
+    return double(i0);
+  };
+  std::vector<double> widths;
+  for (int i = 0; i < n; ++i) {
+    const double f0 = at(i), f1 = at(i + 1);
+    if ((f0 - 0.5) * (f1 - 0.5) >= 0.0) continue;
+    const bool rising = f1 > f0;
+    const double lo = crossing(i + (rising ? 0 : 1), rising ? -1 : 1, 0.1);
+    const double hi = crossing(i + (rising ? 1 : 0), rising ? 1 : -1, 0.9);
+    widths.push_back(std::abs(hi - lo));
+  }
+  out.interfaces = int(widths.size());
+  if (!widths.empty()) {
+    double sum = 0.0;
+    for (double w : widths) sum += w;
+    out.mean_width_cells = sum / widths.size();
+    out.min_width_cells = *std::min_element(widths.begin(), widths.end());
+    out.max_width_cells = *std::max_element(widths.begin(), widths.end());
+  }
+  return out;
+}
+
+double level_radius(const Field& phi, double dx, double dy, double dz) {
+  const int n = phi.n();
+  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  dx /= len;
+  dy /= len;
+  dz /= len;
+  auto sample = [&](double r) {  // trilinear at (0.5,0.5,0.5) + r d, in cell-centre coordinates
+    const double gx = (0.5 + r * dx) * n - 0.5, gy = (0.5 + r * dy) * n - 0.5,
+                 gz = (0.5 + r * dz) * n - 0.5;
+    const int i = int(std::floor(gx)), j = int(std::floor(gy)), k = int(std::floor(gz));
+    const double fx = gx - i, fy = gy - j, fz = gz - k;
+    double v = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
+      const double w = (a ? fx : 1 - fx) * (b ? fy : 1 - fy) * (d ? fz : 1 - fz);
+      v += w * phi(i + a, j + b, k + d);
+    }
+    return v;
+  };
+  const double step = 0.25 / n, r_max = 0.5 - 1.0 / n;
+  double r0 = 0.0, v0 = sample(0.0);
+  for (double r = step; r <= r_max; r += step) {
+    const double v = sample(r);
+    if ((v0 - 0.5) * (v - 0.5) <= 0.0 && v != v0) return r0 + step * (0.5 - v0) / (v - v0);
+    r0 = r;
+    v0 = v;
+  }
+  return r_max;
+}
+
+namespace {
+
+double sphericity(const Measures& m) {
+  return std::cbrt(M_PI) * std::pow(6.0 * m.mass, 2.0 / 3.0) / m.area;
+}
+
+double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
+  double axis = 0.0, diag = 0.0;
+  for (int s = 0; s < 2; ++s) {
+    const double d = s ? -1.0 : 1.0;
+    axis += level_radius(phi, d, 0, 0) + level_radius(phi, 0, d, 0) + level_radius(phi, 0, 0, d);
+  }
+  for (int c = 0; c < 8; ++c)
+    diag += level_radius(phi, c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
+  if (mean_radius) *mean_radius = (axis + diag) / 14.0;
+  return (axis / 6.0) / (diag / 8.0);
+}
+
+}  // namespace
+
+CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
+                                         const ProgressFn& progress) {
+  RunParams p;
+  p.surface = "cube";
+  p.grid = n;
+  p.epsilon = 0.015 * 64.0 / n;
+  p.dt_factor = 1.0;
+  p.stop = StopRule::kPhi;
+  p.tol = tol;
+  p.max_steps = max_steps;
+  InitialFieldParams init;
+  init.surface = "cube";
+  Field cube = make_initial_field(init, n, 2);
+  CubeToSphereResult out;
+  out.radius_ratio_initial = axis_to_diagonal_radius(cube, nullptr);
+  out.run = relax_field(cube, p, progress);
+  // The diffuse area measure means nothing on the sharp 0/1 cube: use the geometric value.
+  out.sphericity_initial = std::cbrt(M_PI) * std::pow(6.0 * 0.125, 2.0 / 3.0) / 1.5;
+  out.sphericity_final = sphericity(out.run.final);
+  out.run.phi.exchange_halo();
+  out.radius_ratio_final = axis_to_diagonal_radius(out.run.phi, &out.mean_radius_final);
+  return out;
+}
+
+SphereConvergenceRow verify_sphere(int n, double tol, int max_steps, const ProgressFn& progress) {
+  RunParams p;
+  p.surface = "sphere";
+  p.radius = 0.25;
+  p.grid = n;
+  p.epsilon = 0.0073 * 64.0 / n;
+  p.dt_factor = 1.0;
+  p.stop = StopRule::kPhi;
+  p.tol = tol;
+  p.max_steps = max_steps;
+  const RunResult r = run_cmc(p, progress);
+  SphereConvergenceRow row;
+  row.n = n;
+  row.epsilon = p.epsilon;
+  row.area = r.final.area;
+  row.total_mean_curvature = r.final.total_mean_curvature;
+  row.mean_curvature_mu = r.final.mean_curvature_mu;
+  row.steps = r.steps;
+  row.wall_seconds = r.wall_seconds;
+  return row;
+}
+
+}  // namespace cmcsurf

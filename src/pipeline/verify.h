@@ -1,0 +1,62 @@
+// The paper's verification experiments (Sections 4.1-4.3, Table 1) as library calls; the
+// command line prints them beside the paper's numbers.
+#pragma once
+
+#include <vector>
+
+#include "pipeline/cmc.h"
+
+namespace cmcsurf {
+
+// epsilon_m = h m / (4 sqrt2 atanh(0.9)): the interface spans about m cells from 0.1 to 0.9.
+double epsilon_for_cells(int m, int n);
+
+// Section 4.1: phi(x) = 0.5 + 0.01 rand(x) (constant in y and z) evolved with epsilon_m,
+// dt = 0.05, to t = 10; the measured width in cells of every 0.1 -> 0.9 transition.
+struct TransitionLayerResult {
+  int m = 0;
+  int n = 0;
+  double epsilon = 0.0;
+  int interfaces = 0;
+  double mean_width_cells = 0.0;
+  double min_width_cells = 0.0;
+  double max_width_cells = 0.0;
+  RunResult run;
+};
+TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::uint64_t seed,
+                                              const ProgressFn& progress = {});
+
+// Section 4.2: the cube 0.25 <= x,y,z <= 0.75 on 64^3, dt = h, epsilon = 0.015, relaxed until
+// ||dphi|| <= tol or max_steps. Sphericity pi^(1/3) (6V)^(2/3) / A (1 for a ball, 0.806 for a
+// cube) with V the mass and A the area measure, and the ratio of the phi = 1/2 radius along the
+// axes to the radius along the cube diagonals (0.577 for the cube, 1 for a sphere).
+struct CubeToSphereResult {
+  double sphericity_initial = 0.0;
+  double sphericity_final = 0.0;
+  double radius_ratio_initial = 0.0;
+  double radius_ratio_final = 0.0;
+  double mean_radius_final = 0.0;
+  RunResult run;
+};
+CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
+                                         const ProgressFn& progress = {});
+
+// Radius of the phi = 1/2 level along a ray from the cell centre (0.5, 0.5, 0.5), by trilinear
+// interpolation at sub-cell steps (phi needs a current halo of at least 1).
+double level_radius(const Field& phi, double dx, double dy, double dz);
+
+// Section 4.3 / Table 1: sphere r = 0.25, epsilon = 0.0073 * 64 / N, dt = h, stop
+// ||dphi|| <= 1e-5.
+struct SphereConvergenceRow {
+  int n = 0;
+  double epsilon = 0.0;
+  double area = 0.0;
+  double total_mean_curvature = 0.0;
+  double mean_curvature_mu = 0.0;
+  int steps = 0;
+  double wall_seconds = 0.0;
+};
+SphereConvergenceRow verify_sphere(int n, double tol, int max_steps,
+                                   const ProgressFn& progress = {});
+
+}  // namespace cmcsurf

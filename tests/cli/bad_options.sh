@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Bad input: exit code 2, a message naming the option, and nothing written.
+set -u
+bin="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+expect_usage() {  # expect_usage <option named in message> <args...>
+  local opt="$1"; shift
+  local out="$work/out"
+  "$bin" "$@" --out "$out" >"$work/stdout" 2>"$work/stderr"
+  local rc=$?
+  if [ "$rc" -ne 2 ]; then echo "FAIL: '$*' exited $rc, want 2"; fail=1; fi
+  if ! grep -q -- "$opt" "$work/stderr"; then
+    echo "FAIL: '$*' message does not name $opt:"; cat "$work/stderr"; fail=1
+  fi
+  if [ -e "$out" ]; then echo "FAIL: '$*' wrote $out"; fail=1; rm -rf "$out"; fi
+}
+expect_usage --grid        run --grid 50
+expect_usage --grid        run --grid 4
+expect_usage --grid        run --grid abc
+expect_usage --volume-fraction run --volume-fraction 1.2
+expect_usage --volume-fraction run --volume-fraction 0
+expect_usage --epsilon     run --epsilon 0
+expect_usage --epsilon     run --epsilon -0.01
+expect_usage --surface     run --surface Q
+expect_usage --stop        run --stop energy
+expect_usage --smoother    run --smoother jacobi
+expect_usage --dt-factor   run --dt-factor 0
+expect_usage --max-steps   run --max-steps 0
+expect_usage --tol         run --tol -1
+expect_usage --radius      run --surface sphere --radius 0.7
+expect_usage --unknown-option run --unknown-option 3
+# A file where the output directory should be.
+touch "$work/file"
+"$bin" run --grid 16 --out "$work/file" >/dev/null 2>"$work/stderr"
+rc=$?
+if [ "$rc" -ne 2 ] || ! grep -q -- --out "$work/stderr"; then echo "FAIL: --out on a file: rc $rc"; fail=1; fi
+"$bin" --help >/dev/null || { echo "FAIL: --help"; fail=1; }
+"$bin" run --help | grep -q -- --volume-fraction || { echo "FAIL: run --help"; fail=1; }
+[ "$fail" -eq 0 ] && echo "bad_options: all passed"
+exit "$fail"

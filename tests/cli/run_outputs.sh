@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# A small run writes report.json (every contract key), history.csv and field.vti, no temporaries.
+set -eu
+bin="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$bin" run --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 400 \
+  --quiet --out "$work/p"
+for f in report.json history.csv field.vti; do
+  [ -s "$work/p/$f" ] || { echo "FAIL: missing $f"; exit 1; }
+done
+if ls "$work/p" | grep -q tmp; then echo "FAIL: temporary left behind"; ls "$work/p"; exit 1; fi
+python3 - "$work/p" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+r = json.load(open(f"{d}/report.json"))
+keys = ["surface", "grid", "epsilon", "dt", "volume_fraction_target", "steps", "vcycles",
+        "converged", "area", "mean_curvature", "mean_curvature_mu", "total_mean_curvature",
+        "volume_fraction", "mass", "energy", "wall_seconds", "version", "parameters"]
+missing = [k for k in keys if k not in r]
+assert not missing, f"missing report keys {missing}"
+assert r["surface"] == "P" and r["grid"] == 16 and r["volume_fraction_target"] == 0.4
+assert abs(r["mass"] - 0.4) < 1e-9, r["mass"]
+for k in ["surface", "volume_fraction", "grid", "epsilon", "dt_factor", "stop", "tol",
+          "max_steps", "smoother", "radius"]:
+    assert k in r["parameters"], f"parameter {k} missing"
+rows = list(csv.DictReader(open(f"{d}/history.csv")))
+for k in ["step", "time", "area", "energy", "mass", "vcycles", "residual"]:
+    assert k in rows[0], f"history column {k} missing"
+assert len(rows) == r["steps"] + r["prerelax_steps"], (len(rows), r["steps"])
+head = open(f"{d}/field.vti", "rb").read(600).decode("latin-1")
+assert 'type="ImageData"' in head and 'WholeExtent="0 15 0 15 0 15"' in head, head
+print("run_outputs: all passed")
+PY

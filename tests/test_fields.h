@@ -1,0 +1,47 @@
+// Deterministic fields for the tests.
+#pragma once
+
+#include <cmath>
+#include <random>
+
+#include "grid/field.h"
+
+namespace cmcsurf::testing {
+
+// Uniform values in [lo, hi], reproducible, halo exchanged.
+inline Field random_field(int n, int ghost, double lo, double hi, unsigned seed) {
+  Field f(n, ghost);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  for_each_cell(n, [&](int i, int j, int k) { f(i, j, k) = u(rng); });
+  f.exchange_halo();
+  return f;
+}
+
+// Truncated gyroid nodal field of Eq. (9) (steps 1-2 of Section 4.4), halo exchanged.
+inline Field gyroid_field(int n, int ghost) {
+  Field f(n, ghost);
+  const double h = 1.0 / n, w = 2.0 * M_PI;
+  for_each_cell(n, [&](int i, int j, int k) {
+    const double x = w * (i + 0.5) * h, y = w * (j + 0.5) * h, z = w * (k + 0.5) * h;
+    const double v = std::sin(x) * std::cos(y) + std::sin(z) * std::cos(x) +
+                     std::sin(y) * std::cos(z) + 0.5;
+    f(i, j, k) = std::min(1.0, std::max(0.0, v));
+  });
+  f.exchange_halo();
+  return f;
+}
+
+inline double max_abs_diff(const Field& a, const Field& b) {
+  double m = 0.0;
+  for_each_cell(a.n(), [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k) - b(i, j, k))); });
+  return m;
+}
+
+inline double mean(const Field& a) {
+  double s = 0.0;
+  for_each_cell(a.n(), [&](int i, int j, int k) { s += a(i, j, k); });
+  return s / a.interior_size();
+}
+
+}  // namespace cmcsurf::testing
