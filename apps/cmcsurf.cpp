@@ -18,8 +18,9 @@ int main(int argc, char** argv) {
       "--out gyroid30"};
   app.set_version_flag("--version", version_string());
   app.require_subcommand(1);
-  std::vector<CommandFn> commands = {add_run_command(app), add_verify_command(app),
-                                     add_surfaces_command(app)};
+  std::vector<CommandFn> commands = {add_run_command(app),      add_sweep_command(app),
+                                     add_mesh_command(app),     add_graded_command(app),
+                                     add_verify_command(app),   add_surfaces_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

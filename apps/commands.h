@@ -12,5 +12,8 @@ using CommandFn = std::pair<CLI::App*, std::function<int()>>;
 CommandFn add_run_command(CLI::App& root);
 CommandFn add_verify_command(CLI::App& root);
 CommandFn add_surfaces_command(CLI::App& root);
+CommandFn add_sweep_command(CLI::App& root);   // apps/cmd_sweep.cpp
+CommandFn add_mesh_command(CLI::App& root);    // apps/cmd_mesh.cpp
+CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
 
 }  // namespace cmcsurf::cli
