@@ -85,8 +85,10 @@ TEST(CahnHilliard, VCycleFactorIsIndependentOfN) {
   RecordProperty("factor32", std::to_string(f32));
   RecordProperty("factor64", std::to_string(f64));
   std::printf("V-cycle reduction factors: 16^3 %.3f, 32^3 %.3f, 64^3 %.3f\n", f16, f32, f64);
-  for (double f : {f16, f32, f64}) EXPECT_LT(f, 0.15);
-  EXPECT_LT(std::max({f16, f32, f64}) / std::min({f16, f32, f64}), 3.0);
+  // Measured 0.018, 0.022, 0.024: h-independent to within the slow growth typical of
+  // piecewise-constant interpolation; allow 3x margin on the factor and 2x on the spread.
+  for (double f : {f16, f32, f64}) EXPECT_LT(f, 0.08);
+  EXPECT_LT(std::max({f16, f32, f64}) / std::min({f16, f32, f64}), 2.0);
 }
 
 TEST(CahnHilliard, MassIsConservedToRoundOff) {
