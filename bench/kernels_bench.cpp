@@ -12,31 +12,14 @@
 #include "grid/field.h"
 #include "measure/measures.h"
 #include "multigrid/transfer.h"
+#include "../tests/test_fields.h"
 
 namespace cmcsurf {
 namespace {
 
-Field random_field(int n, int ghost, double lo, double hi, unsigned seed) {
-  Field f(n, ghost);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(lo, hi);
-  for_each_cell(n, [&](int i, int j, int k) { f(i, j, k) = u(rng); });
-  f.exchange_halo();
-  return f;
-}
+using testing::random_field;
 
-Field gyroid(int n, int ghost) {
-  Field f(n, ghost);
-  const double w = 2 * M_PI / n;
-  for_each_cell(n, [&](int i, int j, int k) {
-    const double x = w * (i + 0.5), y = w * (j + 0.5), z = w * (k + 0.5);
-    f(i, j, k) = std::clamp(std::sin(x) * std::cos(y) + std::sin(z) * std::cos(x) +
-                                std::sin(y) * std::cos(z) + 0.5,
-                            0.0, 1.0);
-  });
-  f.exchange_halo();
-  return f;
-}
+Field gyroid(int n, int ghost) { return testing::gyroid_field(n, ghost); }
 
 double cells(int n) { return double(n) * n * n; }
 

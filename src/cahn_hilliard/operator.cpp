@@ -31,7 +31,7 @@ void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
   const int n = phi_n.n();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / dt;
   const std::ptrdiff_t sy = phi_n.stride_y(), sz = phi_n.stride_z();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       const double* p = &phi_n(0, j, k);
@@ -50,7 +50,7 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double sign = rhs_phi ? -1.0 : 1.0;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       const double* ph = &phi(0, j, k);
@@ -99,7 +99,7 @@ void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       double* ph = &phi(0, j, k);
@@ -198,7 +198,7 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
 double ChOperator::norm(const Fields& d) const {
   const int n = d[0].n();
   double s1 = 0.0, s2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : s1, s2)
+#pragma omp parallel for schedule(static) reduction(+ : s1, s2) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       const double* a = &d[0](0, j, k);

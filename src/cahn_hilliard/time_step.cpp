@@ -31,7 +31,7 @@ StepStats ChStepper::step(Field& phi) {
     const int n = phi.n();
     const double inv_h2 = double(n) * n, eps2 = p.epsilon * p.epsilon;
     const std::ptrdiff_t sy = u[0].stride_y(), sz = u[0].stride_z();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j) {
         const double* ph = &u[0](0, j, k);

@@ -20,7 +20,7 @@ void Field::fill(double value) { std::fill(data_.begin(), data_.end(), value); }
 void copy_interior(const Field& src, Field& dst) {
   assert(src.n() == dst.n());
   const int n = src.n();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       std::memcpy(&dst(0, j, k), &src(0, j, k), sizeof(double) * n);
@@ -28,7 +28,7 @@ void copy_interior(const Field& src, Field& dst) {
 
 void add_constant(Field& f, double c) {
   const int n = f.n();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       double* p = &f(0, j, k);

@@ -66,6 +66,11 @@ class Field {
   std::shared_ptr<const HaloPlan> plan_;
 };
 
+// Grids smaller than this run their loops on one thread: a parallel region costs a barrier,
+// and coarse multigrid levels have too little work to pay for it (on a loaded machine a
+// barrier can wait a whole scheduler quantum for a descheduled thread).
+constexpr int kParallelMinN = 32;
+
 // Interior loop helper: calls f(i, j, k) for every interior cell, k outermost.
 template <class F>
 void for_each_cell(int n, F&& f) {

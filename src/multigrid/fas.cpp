@@ -86,7 +86,7 @@ void FasSolver::cycle(const FasOperator& op, int l) {
     Field& rhs = coarse.rhs[c];
     const Field& a = coarse.defect[c];
     const int n = rhs.n();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j) {
         double* r = &rhs(0, j, k);

@@ -8,7 +8,7 @@ void restrict_average(const Field& fine, Field& coarse) {
   assert(fine.n() == 2 * coarse.n());
   const int nc = coarse.n();
   const std::ptrdiff_t fy = fine.stride_y(), fz = fine.stride_z();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (fine.n() >= kParallelMinN)
   for (int k = 0; k < nc; ++k)
     for (int j = 0; j < nc; ++j) {
       const double* f = &fine(0, 2 * j, 2 * k);
@@ -37,7 +37,7 @@ void restrict_average_ref(const Field& fine, Field& coarse) {
 void add_interpolated_correction(const Field& coarse, const Field& coarse_before, Field& fine) {
   assert(fine.n() == 2 * coarse.n());
   const int nf = fine.n();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf >= kParallelMinN)
   for (int k = 0; k < nf; ++k)
     for (int j = 0; j < nf; ++j) {
       const double* c = &coarse(0, j / 2, k / 2);

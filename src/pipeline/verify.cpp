@@ -35,26 +35,48 @@ TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::u
   p.max_steps = int(std::lround(t_end / 0.05));
   out.run = relax_field(phi0, p, progress);
 
-  // Along x at j = k = 0: for each 0.5 crossing, the distance between the 0.1 and 0.9 levels.
+  // Along x at j = k = 0: the 0.5 crossings, then for each the 0.1 and 0.9 crossings searched
+  // only up to the neighbouring 0.5 crossings (a layer whose neighbours are too close for the
+  // profile to reach 0.1 or 0.9 is not a formed interface and is skipped).
   const Field& phi = out.run.phi;
   auto at = [&](int i) { return phi(((i % n) + n) % n, 0, 0); };
-  auto crossing = [&](int i0, int dir, double level) {  // first x past i0 where phi hits level
-    for (int s = 0; s < n; ++s) {
-      const int a = i0 + dir * s, b = a + dir;
-      const double fa = at(a), fb = at(b);
-      if ((fa - level) * (fb - level) <= 0.0 && fa != fb) return a + dir * (level - fa) / (fb - fa);
-    }
-    return double(i0);
-  };
-  std::vector<double> widths;
+  std::vector<double> half;  // positions (in cells) of the 0.5 crossings, increasing
   for (int i = 0; i < n; ++i) {
     const double f0 = at(i), f1 = at(i + 1);
-    if ((f0 - 0.5) * (f1 - 0.5) >= 0.0) continue;
-    const bool rising = f1 > f0;
-    const double lo = crossing(i + (rising ? 0 : 1), rising ? -1 : 1, 0.1);
-    const double hi = crossing(i + (rising ? 1 : 0), rising ? 1 : -1, 0.9);
-    widths.push_back(std::abs(hi - lo));
+    if ((f0 - 0.5) * (f1 - 0.5) < 0.0) half.push_back(i + (0.5 - f0) / (f1 - f0));
   }
+  // First crossing of `level` going from x0 in direction dir, before reaching x_limit.
+  auto crossing = [&](double x0, int dir, double x_limit, double level, double* x) {
+    for (int a = dir > 0 ? int(std::floor(x0)) : int(std::ceil(x0));
+         dir > 0 ? a < x_limit : a > x_limit; a += dir) {
+      const int b = a + dir;
+      const double fa = at(a), fb = at(b);
+      if ((fa - level) * (fb - level) <= 0.0 && fa != fb) {
+        *x = a + dir * (level - fa) / (fb - fa);
+        return dir > 0 ? *x <= x_limit : *x >= x_limit;
+      }
+    }
+    return false;
+  };
+  const int count = int(half.size());
+  out.crossings = count;
+  // Widths between the levels lo and 1 - lo of every formed interface.
+  auto widths_between = [&](double lo_level) {
+    std::vector<double> widths;
+    for (int c = 0; c < count; ++c) {
+      const double x = half[c];
+      const double prev = c > 0 ? half[c - 1] : half[count - 1] - n;
+      const double next = c + 1 < count ? half[c + 1] : half[0] + n;
+      const int i = int(std::floor(x));
+      const bool rising = at(i + 1) > at(i);
+      double lo, hi;
+      if (crossing(x, -1, prev, rising ? lo_level : 1 - lo_level, &lo) &&
+          crossing(x, 1, next, rising ? 1 - lo_level : lo_level, &hi))
+        widths.push_back(hi - lo);
+    }
+    return widths;
+  };
+  const std::vector<double> widths = widths_between(0.1);
   out.interfaces = int(widths.size());
   if (!widths.empty()) {
     double sum = 0.0;
@@ -62,6 +84,12 @@ TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::u
     out.mean_width_cells = sum / widths.size();
     out.min_width_cells = *std::min_element(widths.begin(), widths.end());
     out.max_width_cells = *std::max_element(widths.begin(), widths.end());
+  }
+  const std::vector<double> wide = widths_between(0.05);
+  if (!wide.empty()) {
+    double sum = 0.0;
+    for (double w : wide) sum += w;
+    out.mean_width_cells_05 = sum / wide.size();
   }
   return out;
 }

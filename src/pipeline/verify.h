@@ -12,15 +12,20 @@ namespace cmcsurf {
 double epsilon_for_cells(int m, int n);
 
 // Section 4.1: phi(x) = 0.5 + 0.01 rand(x) (constant in y and z) evolved with epsilon_m,
-// dt = 0.05, to t = 10; the measured width in cells of every 0.1 -> 0.9 transition.
+// dt = 0.05, to t = 10; the measured width in cells of every 0.1 -> 0.9 transition. For
+// phi = (1 + tanh(x / (2 sqrt2 eps))) / 2 that width is 4 sqrt2 eps atanh(0.8), i.e. 0.746 m
+// cells for epsilon_m; the formula's atanh(0.9) is the 0.05 -> 0.95 width (the paper's c in
+// [-1, 1] from -0.9 to 0.9), which is m cells.
 struct TransitionLayerResult {
   int m = 0;
   int n = 0;
   double epsilon = 0.0;
-  int interfaces = 0;
+  int crossings = 0;   // phi = 1/2 crossings along the line
+  int interfaces = 0;  // of which formed (reach 0.1 and 0.9 before the next crossing)
   double mean_width_cells = 0.0;
   double min_width_cells = 0.0;
   double max_width_cells = 0.0;
+  double mean_width_cells_05 = 0.0;  // between phi = 0.05 and 0.95
   RunResult run;
 };
 TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::uint64_t seed,
