@@ -38,6 +38,14 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
   app.add_option("--smoother", s.smoother,
                  "Gauss-Seidel ordering: redblack (parallel) or lex (as printed, serial)")
       ->capture_default_str();
+  app.add_option("--constrain", s.constrain,
+                 "What step 6 holds at --volume-fraction: volume (the sharp volume fraction of "
+                 "phi > 1/2, by mass corrections after step 6) or mass (the paper's Section 4.4 "
+                 "as printed); no effect for sphere, cube, noise")
+      ->capture_default_str();
+  app.add_option("--volume-tol", p.volume_tol,
+                 "--constrain volume: stop correcting when |V - alpha| <= this")
+      ->capture_default_str();
   app.add_option("--radius", p.radius, "Sphere radius (surface sphere), in (0, 0.5)")
       ->capture_default_str();
   app.add_option("--seed", p.seed, "Random seed (surface noise)")->capture_default_str();
@@ -60,6 +68,9 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
   g->add_option("--bisection-tol", p.bisection_tol, "Step 4: bisection tolerance")
       ->capture_default_str();
   g->add_option("--bisection-max-it", p.bisection_max_it, "Step 4: bisection iterations")
+      ->capture_default_str();
+  g->add_option("--max-volume-corrections", p.max_volume_corrections,
+                "--constrain volume: limit on mass corrections (each one a relaxation)")
       ->capture_default_str();
 }
 
@@ -85,6 +96,12 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
     p.smoother = SweepOrder::kLexicographic;
   else
     throw UsageError(fmt::format("--smoother: got '{}'; accepted: redblack, lex", s.smoother));
+  if (s.constrain == "volume")
+    p.constrain = Constraint::kVolume;
+  else if (s.constrain == "mass")
+    p.constrain = Constraint::kMass;
+  else
+    throw UsageError(fmt::format("--constrain: got '{}'; accepted: volume, mass", s.constrain));
 
   if (check_surface) {
     try {
@@ -117,6 +134,9 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
           p.prerelax_epsilon_factor, "> 0");
   require(p.bisection_tol > 0.0, "--bisection-tol", p.bisection_tol, "> 0");
   require(p.bisection_max_it >= 1, "--bisection-max-it", p.bisection_max_it, ">= 1");
+  require(p.volume_tol > 0.0 && p.volume_tol < 0.1, "--volume-tol", p.volume_tol, "0 < T < 0.1");
+  require(p.max_volume_corrections >= 0 && p.max_volume_corrections <= 100,
+          "--max-volume-corrections", p.max_volume_corrections, "0..100");
 }
 
 int apply_threads(int threads) {

@@ -21,6 +21,7 @@ struct UsageError : std::runtime_error {
 struct RunOptionStrings {
   std::string stop = "area";
   std::string smoother = "redblack";
+  std::string constrain = "volume";
 };
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
 // Converts the strings and checks every range; throws UsageError.

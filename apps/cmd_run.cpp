@@ -10,6 +10,8 @@
 #include "io/json_file.h"
 #include "io/run_report.h"
 #include "io/vti.h"
+#include "mesh_options.h"
+#include "pipeline/sweep.h"
 
 namespace cmcsurf::cli {
 
@@ -22,6 +24,7 @@ struct RunCommand {
   std::string out = "cmcsurf-out";
   bool quiet = false;
   bool float32 = false;
+  std::string mesh_format;  // empty: no surface mesh
 };
 
 }  // namespace
@@ -36,6 +39,9 @@ CommandFn add_run_command(CLI::App& root) {
   app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti)")
       ->capture_default_str();
   app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
+  app->add_option("--mesh", cmd->mesh_format,
+                  "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
+                  "unit-cell coordinates, with surface.FORMAT.json");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   return {app, [cmd]() -> int {
             RunParams& p = cmd->params;
@@ -45,6 +51,13 @@ CommandFn add_run_command(CLI::App& root) {
             const std::filesystem::path dir(cmd->out);
             if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
               throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));
+            if (!cmd->mesh_format.empty()) {
+              try {
+                parse_mesh_format(cmd->mesh_format);
+              } catch (const std::invalid_argument& e) {
+                throw UsageError(fmt::format("--mesh: {}", e.what()));
+              }
+            }
             const int threads = apply_threads(cmd->threads);
 
             Progress progress(cmd->quiet);
@@ -57,7 +70,10 @@ CommandFn add_run_command(CLI::App& root) {
             progress.finish();
 
             ensure_directory(dir);
-            const nlohmann::json report = run_report(p, r, threads);
+            nlohmann::json report = run_report(p, r, threads);
+            const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
+            report.update(quality_json(quality, r.final.area));
+            write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
             write_history_csv(dir / "history.csv", r.history);
             write_vti(dir / "field.vti", {{"phi", &r.phi}}, cmd->float32,
                       {{"surface", p.surface},
@@ -67,6 +83,7 @@ CommandFn add_run_command(CLI::App& root) {
                        {"area", fmt::format("{:.17g}", r.final.area)},
                        {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
                        {"version", version_string()}});
+            if (!cmd->mesh_format.empty()) write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
             write_json_atomic(dir / "report.json", report);  // last: marks a complete run
 
             if (!cmd->quiet) {

@@ -1,17 +1,201 @@
-// cmcsurf sweep: placeholder until its issue lands.
+// cmcsurf sweep: families of CMC surfaces over volume fraction (Section 4.5, Fig. 11).
+#include <fmt/format.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "cli_common.h"
 #include "commands.h"
+#include "io/atomic_file.h"
+#include "io/json_file.h"
+#include "io/run_report.h"
+#include "io/vti.h"
+#include "pipeline/sweep.h"
 
 namespace cmcsurf::cli {
 
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SweepCommand {
+  RunParams params;
+  RunOptionStrings strings;
+  std::string surfaces = "P,D,G";
+  std::string fractions = "0.25:0.75:0.05";
+  bool continuation = false;
+  int threads = 0;
+  std::string out = "cmcsurf-sweep";
+  bool quiet = false;
+  bool float32 = false;
+  bool no_plot = false;
+  std::string python = "/usr/bin/python3";
+  std::string plot_script;
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// scripts/plot_families.py: --plot-script, $CMCSURF_PLOT_SCRIPT, beside the executable
+// (../scripts, ../share/cmcsurf), or in the source tree this file was compiled from.
+fs::path find_plot_script(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv("CMCSURF_PLOT_SCRIPT")) return env;
+  std::vector<fs::path> candidates;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    candidates.push_back(exe.parent_path().parent_path() / "scripts" / "plot_families.py");
+    candidates.push_back(exe.parent_path().parent_path() / "share" / "cmcsurf" / "plot_families.py");
+  }
+  candidates.push_back(fs::path(__FILE__).parent_path().parent_path() / "scripts" /
+                       "plot_families.py");
+  for (const fs::path& p : candidates)
+    if (fs::exists(p, ec)) return p;
+  return {};
+}
+
+// Runs the plotting script; a missing Python, script or matplotlib is a warning, not a failure.
+void plot(const SweepCommand& cmd, const fs::path& dir) {
+  const fs::path script = find_plot_script(cmd.plot_script);
+  if (script.empty()) {
+    std::cerr << "warning: scripts/plot_families.py not found (pass --plot-script); no figures\n";
+    return;
+  }
+  const std::string command =
+      fmt::format("{} {} {} {}", shell_quote(cmd.python), shell_quote(script.string()),
+                  shell_quote((dir / "sweep.csv").string()), shell_quote((dir / "families").string()));
+  const int status = std::system(command.c_str());
+  const int rc = status == -1 ? -1 : (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  if (rc == 3)
+    std::cerr << fmt::format(
+        "warning: matplotlib is missing for {} (apt-get install python3-matplotlib); wrote "
+        "sweep.csv without figures\n",
+        cmd.python);
+  else if (rc != 0)
+    std::cerr << fmt::format("warning: '{}' failed (exit {}); wrote sweep.csv without figures\n",
+                             command, rc);
+}
+
+}  // namespace
+
 CommandFn add_sweep_command(CLI::App& root) {
-  CLI::App* app = root.add_subcommand("sweep", "Sweep volume fractions over surface families (not yet implemented)");
-  app->group("");  // hidden from --help until implemented
-  return {app, []() -> int {
-            std::cerr << "error: cmcsurf sweep is not implemented yet\n";
-            return kExitFailure;
+  auto cmd = std::make_shared<SweepCommand>();
+  CLI::App* app = root.add_subcommand(
+      "sweep",
+      "Families of CMC surfaces over volume fraction (Fig. 11): sweep.csv, one folder per "
+      "member, figures families.png/.svg");
+  app->add_option("--surface", cmd->surfaces,
+                  "Comma-separated nodal surfaces (P, D, G, ... or expr:<formula>)")
+      ->capture_default_str();
+  app->add_option("--volume-fractions", cmd->fractions,
+                  "start:stop:step (stop included) or a list a,b,c; each in (0, 1)")
+      ->capture_default_str();
+  add_run_options(*app, cmd->params, cmd->strings, false);
+  app->add_flag("--continuation", cmd->continuation,
+                "Start each member from the previous member's field shifted to the new mean, "
+                "instead of the nodal formula");
+  app->add_option("--threads", cmd->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
+      ->capture_default_str();
+  app->add_option("--out", cmd->out, "Output directory")->capture_default_str();
+  app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
+  app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
+  app->add_option("--python", cmd->python, "Python with matplotlib for the figures")
+      ->capture_default_str();
+  app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
+  app->add_flag("--quiet", cmd->quiet, "No progress output");
+  return {app, [cmd]() -> int {
+            SweepParams sp;
+            finish_run_options(cmd->params, cmd->strings, false);
+            try {
+              sp.surfaces = parse_surface_list(cmd->surfaces);
+            } catch (const std::invalid_argument& e) {
+              throw UsageError(fmt::format("--surface: {}", e.what()));
+            }
+            try {
+              sp.fractions = parse_volume_fractions(cmd->fractions);
+            } catch (const std::invalid_argument& e) {
+              throw UsageError(fmt::format("--volume-fractions: {}", e.what()));
+            }
+            if (cmd->threads < 0)
+              throw UsageError(fmt::format("--threads: got {}; accepted: >= 0", cmd->threads));
+            const fs::path dir(cmd->out);
+            if (fs::exists(dir) && !fs::is_directory(dir))
+              throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));
+            sp.run = cmd->params;
+            sp.continuation = cmd->continuation;
+            const int threads = apply_threads(cmd->threads);
+            const auto t0 = std::chrono::steady_clock::now();
+
+            ensure_directory(dir);
+            std::vector<nlohmann::json> reports;
+            Progress progress(cmd->quiet);
+            auto starting = [&](const SweepMember& m) {
+              if (!cmd->quiet)
+                std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count,
+                                         m.surface, m.alpha, m.started_from);
+            };
+            auto done = [&](const SweepMember& m, RunResult& r) {
+              const RunParams& p = m.params;
+              nlohmann::json report = run_report(p, r, threads);
+              report["volume_fraction_target"] = m.alpha;  // also for continued members
+              const CmcQuality quality = measure_cmc_quality(r.phi, p);
+              report.update(quality_json(quality, r.final.area));
+              report["member"] = m.name;
+              report["started_from"] = m.started_from;
+              const fs::path member = dir / m.name;
+              ensure_directory(member);
+              write_history_csv(member / "history.csv", r.history);
+              write_curvature_histogram_csv(member / "curvature_histogram.csv", quality);
+              write_vti(member / "field.vti", {{"phi", &r.phi}}, cmd->float32,
+                        {{"surface", p.surface},
+                         {"volume_fraction_target", fmt::format("{}", m.alpha)},
+                         {"epsilon", fmt::format("{}", p.epsilon)},
+                         {"grid", fmt::format("{}", p.grid)},
+                         {"area", fmt::format("{:.17g}", r.final.area)},
+                         {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
+                         {"version", version_string()}});
+              write_json_atomic(member / "report.json", report);
+              reports.push_back(report);
+              write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
+              progress.finish();
+              if (!cmd->quiet)
+                std::cerr << fmt::format(
+                    "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (std {:.3f}) nodal area excess "
+                    "{:+.2f}% (iso-surface {:+.2f}%){}\n",
+                    m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area, r.final.mean_curvature,
+                    quality.relaxed.std,
+                    quality.has_nodal ? 100.0 * (quality.nodal_area / r.final.area - 1.0) : 0.0,
+                    quality.has_nodal ? 100.0 * (quality.nodal_area_iso / quality.area_iso - 1.0)
+                                      : 0.0,
+                    r.converged ? "" : " NOT converged");
+            };
+            run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });
+            const double wall =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            nlohmann::json summary = {{"members", reports.size()},
+                                      {"surfaces", sp.surfaces},
+                                      {"volume_fractions", sp.fractions},
+                                      {"continuation", sp.continuation},
+                                      {"threads", threads},
+                                      {"wall_seconds", wall},
+                                      {"version", version_string()},
+                                      {"parameters", params_json(sp.run)}};
+            summary["parameters"].erase("surface");  // per member
+            summary["parameters"].erase("volume_fraction");
+            write_json_atomic(dir / "sweep.json", summary);
+            if (!cmd->no_plot) plot(*cmd, dir);
+            if (!cmd->quiet)
+              std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
+                                       reports.size(), wall, dir.string(),
+                                       fs::exists(dir / "families.png") ? ", families.png/.svg" : "");
+            return 0;
           }};
 }
 

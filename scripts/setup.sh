@@ -4,7 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
-          libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy)
+          libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
+          admesh)
 if [ "${1:-}" != "--no-install" ]; then
   missing=()
   for p in "${packages[@]}"; do

@@ -25,6 +25,9 @@ nlohmann::json params_json(const RunParams& p) {
       {"prerelax_epsilon_factor", p.prerelax_epsilon_factor},
       {"bisection_tol", p.bisection_tol},
       {"bisection_max_it", p.bisection_max_it},
+      {"constrain", constraint_name(p.constrain)},
+      {"volume_tol", p.volume_tol},
+      {"max_volume_corrections", p.max_volume_corrections},
       {"mg_tol", p.solver.tol},
       {"max_vcycles", p.solver.max_vcycles},
       {"pre_sweeps", p.solver.fas.pre_sweeps},
@@ -40,6 +43,7 @@ nlohmann::json measures_json(const Measures& m) {
           {"mean_curvature_mu", m.mean_curvature_mu},
           {"total_mean_curvature", m.total_mean_curvature},
           {"volume_fraction", m.volume_fraction},
+          {"volume_fraction_cells", m.volume_fraction_cells},
           {"mass", m.mass},
           {"energy", m.energy}};
 }
@@ -76,6 +80,25 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
                       {"iterations", r.bisection->iterations},
                       {"mass_before_shift", r.mass_before_shift}};
   }
+  j["constrain"] = constraint_name(p.constrain);
+  if (r.volume_constrained) {
+    nlohmann::json iterates = nlohmann::json::array();
+    for (const VolumeIterate& it : r.volume_iterates)
+      iterates.push_back({{"mass", it.mass},
+                          {"volume_fraction", it.volume_fraction},
+                          {"steps", it.steps},
+                          {"relaxed", it.relaxed}});
+    j["volume_corrections"] = int(r.volume_iterates.size()) - 1;
+    j["volume_iterates"] = iterates;
+    j["volume_converged"] = r.volume_converged;
+    j["volume_steps"] = r.volume_steps;
+    j["volume_seconds"] = r.volume_seconds;
+  } else {
+    j["volume_corrections"] = 0;
+    j["constrain_note"] =
+        nodal ? "mass: the mass is held at alpha (Section 4.4); volume_fraction may differ from it"
+              : "no effect: this surface has no target volume fraction";
+  }
   j["balanced"] = info ? nlohmann::json(info->balanced) : nlohmann::json();
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;
@@ -86,7 +109,12 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
       {"mean_curvature", "Appendix B estimator, positive when phase 1 is convex (1/r for a ball)"},
       {"mean_curvature_mu", "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
                             "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
-      {"volume_fraction", "fraction of cells with phi > 1/2"},
+      {"volume_fraction",
+       "volume fraction of phi > 1/2: the 1/2 iso-surface of the piecewise-linear interpolant of "
+       "the cell-centre values with its O(h^2) curvature bias removed (docs/volume.md)"},
+      {"volume_fraction_cells", "fraction of cells with phi > 1/2"},
+      {"volume_iterates", "--constrain volume: (mass, volume_fraction) after step 6 and after "
+                          "each mass correction and relaxation"},
       {"mass", "mean of phi"}};
   return j;
 }
@@ -97,6 +125,37 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
     out += fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f}\n",
                        r.step, r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass,
                        r.vcycles, r.residual, r.elapsed);
+  write_file_atomic(path, out);
+}
+
+nlohmann::json quality_json(const CmcQuality& q, double relaxed_area) {
+  const nlohmann::json null;
+  auto nodal = [&](double v) { return q.has_nodal ? nlohmann::json(v) : null; };
+  auto excess = [&](double nodal_a, double relaxed_a) {
+    return q.has_nodal && relaxed_a > 0.0 ? nlohmann::json(nodal_a / relaxed_a - 1.0) : null;
+  };
+  return {{"mean_curvature_local_mean", q.relaxed.mean},
+          {"mean_curvature_std", q.relaxed.std},
+          {"area_iso", q.area_iso},
+          {"nodal_level", nodal(q.nodal_level)},
+          {"nodal_volume_fraction", nodal(q.nodal_volume_fraction)},
+          {"nodal_area", nodal(q.nodal_area)},
+          {"nodal_area_iso", nodal(q.nodal_area_iso)},
+          {"nodal_area_tanh", nodal(q.nodal_area_tanh)},
+          {"nodal_relax_steps", q.has_nodal ? nlohmann::json(q.nodal_relax_steps) : null},
+          {"nodal_mean_curvature", nodal(q.nodal_mean_curvature)},
+          {"nodal_mean_curvature_local_mean", nodal(q.nodal.mean)},
+          {"nodal_mean_curvature_std", nodal(q.nodal.std)},
+          {"nodal_area_excess", excess(q.nodal_area, relaxed_area)},
+          {"nodal_area_excess_iso", excess(q.nodal_area_iso, q.area_iso)}};
+}
+
+void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q) {
+  std::string out = "H_lo,H_hi,relaxed,nodal\n";
+  for (std::size_t b = 0; b + 1 < q.edges.size(); ++b)
+    out += fmt::format("{:.17g},{:.17g},{:.17g},{}\n", q.edges[b], q.edges[b + 1],
+                       q.relaxed_hist[b],
+                       q.has_nodal ? fmt::format("{:.17g}", q.nodal_hist[b]) : std::string());
   write_file_atomic(path, out);
 }
 

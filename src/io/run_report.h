@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "measure/quality.h"
 #include "pipeline/cmc.h"
 
 namespace cmcsurf {
@@ -20,5 +21,13 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads);
 
 // history.csv: step, stage, time, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed.
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history);
+
+// CMC quality keys merged into report.json (docs/families.md): mean_curvature_std, area_iso,
+// nodal_area, nodal_area_iso, nodal_mean_curvature, nodal_mean_curvature_std,
+// nodal_area_excess (nodal_area / area - 1), nodal_area_excess_iso, ...; nodal keys are null
+// for surfaces without a nodal formula.
+nlohmann::json quality_json(const CmcQuality& q, double relaxed_area);
+// curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H).
+void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q);
 
 }  // namespace cmcsurf

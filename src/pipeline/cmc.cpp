@@ -1,10 +1,12 @@
 #include "pipeline/cmc.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "measure/measures.h"
+#include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -19,6 +21,8 @@ double seconds_since(Clock::time_point t0) {
 
 }  // namespace
 
+const char* constraint_name(Constraint c) { return c == Constraint::kVolume ? "volume" : "mass"; }
+
 Measures measure_field(Field& phi, double epsilon) {
   phi.exchange_halo();
   Measures m;
@@ -26,7 +30,8 @@ Measures measure_field(Field& phi, double epsilon) {
   m.mean_curvature = mean_curvature(phi);
   m.mean_curvature_mu = mean_curvature_mu(phi, epsilon);
   m.total_mean_curvature = m.mean_curvature * m.area;
-  m.volume_fraction = volume_fraction(phi);
+  m.volume_fraction = sharp_volume_fraction(phi);
+  m.volume_fraction_cells = volume_fraction(phi);
   m.mass = mass(phi);
   m.energy = energy(phi, epsilon);
   return m;
@@ -154,17 +159,30 @@ class Evolution {
     return r;
   }
 
-  // Step 6 (or the whole run for sphere/cube/noise): relax at epsilon until the stop rule.
-  void relax() {
+  // Step 6 (or the whole run for sphere/cube/noise, or a relaxation after a mass correction):
+  // relax at epsilon until the stop rule; returns the steps taken.
+  // With volume_rate > 0 the stop rule also needs the sharp volume fraction to change by at
+  // most volume_rate in the step (after a mass correction the area can settle before V does).
+  int relax(const char* stage = "relax", double volume_rate = 0.0) {
     set_epsilon(params_.epsilon);
     double a = area(result_.phi, params_.epsilon);
+    double v = volume_rate > 0.0 ? sharp_volume_fraction(result_.phi) : 0.0;
     result_.stop_reason = "max-steps";
+    result_.converged = false;
+    int taken = 0;
     for (int s = 0; s < params_.max_steps; ++s) {
-      const StepRecord r = advance("relax", a);
+      const StepRecord r = advance(stage, a);
       a = r.area;
+      ++taken;
       ++result_.steps;
-      const bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
-                                                       : r.d_phi <= params_.tol;
+      bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
+                                                 : r.d_phi <= params_.tol;
+      if (volume_rate > 0.0) {
+        result_.phi.exchange_halo();
+        const double v_new = sharp_volume_fraction(result_.phi);
+        met = met && std::abs(v_new - v) <= volume_rate;
+        v = v_new;
+      }
       if (met) {
         result_.converged = true;
         result_.stop_reason = params_.stop == StopRule::kArea ? "area" : "phi";
@@ -173,6 +191,7 @@ class Evolution {
     }
     result_.final = measure_field(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
+    return taken;
   }
 
  private:
@@ -185,6 +204,41 @@ class Evolution {
   int step_ = 0;
   double time_ = 0.0;
 };
+
+// Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where
+// V(m) is the sharp volume fraction after relaxing phi + (m - mass(phi)) from the last relaxed
+// state. The first slope is 1 (a sharp interface between bulk phases 0 and 1 moves by the
+// added mass); later slopes are secants, kept in [1/4, 4] against noise from the stop rule.
+void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& result) {
+  const auto t0 = Clock::now();
+  const double alpha = params.volume_fraction;
+  auto record = [&](int steps) {
+    result.volume_iterates.push_back(
+        {result.final.mass, result.final.volume_fraction, steps, result.converged});
+  };
+  auto within = [&] {
+    return std::abs(result.volume_iterates.back().volume_fraction - alpha) <= params.volume_tol;
+  };
+  result.volume_constrained = true;
+  record(result.steps);
+  double slope = 1.0;
+  for (int c = 0; c < params.max_volume_corrections && !within(); ++c) {
+    const VolumeIterate& last = result.volume_iterates.back();
+    if (result.volume_iterates.size() >= 2) {
+      const VolumeIterate& prev = result.volume_iterates[result.volume_iterates.size() - 2];
+      const double s = (last.volume_fraction - prev.volume_fraction) / (last.mass - prev.mass);
+      if (std::isfinite(s)) slope = std::clamp(s, 0.25, 4.0);
+    }
+    const double target_mass = last.mass + (alpha - last.volume_fraction) / slope;
+    add_constant(result.phi, target_mass - mass(result.phi));
+    result.phi.exchange_halo();
+    const int steps = evolution.relax("volume", 0.01 * params.volume_tol);
+    result.volume_steps += steps;
+    record(steps);
+  }
+  result.volume_converged = within();
+  result.volume_seconds = seconds_since(t0);
+}
 
 }  // namespace
 
@@ -226,6 +280,7 @@ RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   result.mass_before_shift = mass(phi);
   shift_mean(phi, params.volume_fraction);  // step 5
   evolution.relax();                        // step 6
+  if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
   return result;
 }
 

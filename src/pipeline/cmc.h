@@ -14,6 +14,12 @@ namespace cmcsurf {
 
 enum class StopRule { kArea, kPhi };
 
+// What step 6 holds at alpha for nodal surfaces: the sharp volume fraction of {phi > 1/2}
+// (Section 2.1's constraint; mass corrections after step 6, docs/volume.md) or the mass (the
+// paper's Section 4.4 as printed).
+enum class Constraint { kVolume, kMass };
+const char* constraint_name(Constraint c);
+
 struct RunParams {
   std::string surface = "G";
   double volume_fraction = 0.5;  // alpha, for nodal surfaces
@@ -33,6 +39,10 @@ struct RunParams {
   // Step 4: bisection on beta.
   double bisection_tol = 1e-6;
   int bisection_max_it = 60;
+  // After step 6 (kVolume): secant corrections of the mass until |V - alpha| <= volume_tol.
+  Constraint constrain = Constraint::kVolume;
+  double volume_tol = 1e-4;
+  int max_volume_corrections = 8;
   StepSolverOptions solver;
 
   double h() const { return 1.0 / grid; }
@@ -45,7 +55,8 @@ struct Measures {
   double mean_curvature = 0.0;
   double mean_curvature_mu = 0.0;
   double total_mean_curvature = 0.0;  // mean_curvature * area, as in Table 1
-  double volume_fraction = 0.0;
+  double volume_fraction = 0.0;        // sharp: measure/sharp_volume.h
+  double volume_fraction_cells = 0.0;  // fraction of cells with phi > 1/2
   double mass = 0.0;
   double energy = 0.0;
 };
@@ -54,7 +65,8 @@ Measures measure_field(Field& phi, double epsilon);
 
 struct StepRecord {
   int step = 0;           // counts all time steps, pre-relaxation included
-  std::string stage;      // "prerelax" (step 3, at 5 eps) or "relax" (step 6)
+  std::string stage;      // "prerelax" (step 3, at 5 eps), "relax" (step 6) or "volume"
+                          // (relaxations after the mass corrections of Constraint::kVolume)
   double time = 0.0;
   double area = 0.0;      // at the stage's epsilon
   double d_area = 0.0;    // A^{n+1} - A^n
@@ -72,10 +84,19 @@ struct BisectionResult {
   int iterations = 0;
 };
 
+// One relaxed state of the volume constraint's secant iteration on the mass.
+struct VolumeIterate {
+  double mass = 0.0;
+  double volume_fraction = 0.0;  // sharp, after the relaxation
+  int steps = 0;                 // time steps of the relaxation that produced it
+  bool relaxed = false;          // that relaxation met the stop rule
+};
+
 struct RunResult {
   Field phi;  // final field (ghost 2)
   std::vector<StepRecord> history;
-  int steps = 0;            // relaxation steps at epsilon (step 6)
+  int steps = 0;            // relaxation steps at epsilon (step 6 and the "volume" stage)
+  int volume_steps = 0;     // of which after mass corrections (stage "volume")
   int prerelax_steps = 0;   // steps at 5 epsilon (step 3)
   long vcycles = 0;         // over all steps
   int unconverged_steps = 0;  // steps whose V-cycles hit the limit before the tolerance
@@ -83,6 +104,13 @@ struct RunResult {
   std::string stop_reason;
   std::optional<BisectionResult> bisection;  // nodal surfaces only
   double mass_before_shift = 0.0;
+  // Volume constraint: whether it applied (nodal surfaces with Constraint::kVolume), the
+  // iterates (the first is step 6's result, each later one a correction) and whether the last
+  // is within volume_tol of alpha.
+  bool volume_constrained = false;
+  std::vector<VolumeIterate> volume_iterates;
+  bool volume_converged = false;
+  double volume_seconds = 0.0;  // wall time of the corrections
   Measures initial;         // phi^0 (after truncation for nodal surfaces), at epsilon
   Measures final;
   double wall_seconds = 0.0;

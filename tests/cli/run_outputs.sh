@@ -20,7 +20,12 @@ keys = ["surface", "grid", "epsilon", "dt", "volume_fraction_target", "steps", "
 missing = [k for k in keys if k not in r]
 assert not missing, f"missing report keys {missing}"
 assert r["surface"] == "P" and r["grid"] == 16 and r["volume_fraction_target"] == 0.4
-assert abs(r["mass"] - 0.4) < 1e-9, r["mass"]
+# --constrain volume (the default) moves the mass until the sharp volume fraction is alpha.
+assert r["constrain"] == "volume" and r["volume_converged"], r.get("volume_iterates")
+assert abs(r["volume_fraction"] - 0.4) <= 1e-4, r["volume_fraction"]
+assert abs(r["volume_iterates"][0]["mass"] - 0.4) < 1e-9, r["volume_iterates"]
+assert abs(r["mass"] - r["volume_iterates"][-1]["mass"]) < 1e-9
+assert "volume_fraction_cells" in r
 for k in ["surface", "volume_fraction", "grid", "epsilon", "dt_factor", "stop", "tol",
           "max_steps", "smoother", "radius"]:
     assert k in r["parameters"], f"parameter {k} missing"
@@ -28,6 +33,8 @@ rows = list(csv.DictReader(open(f"{d}/history.csv")))
 for k in ["step", "time", "area", "energy", "mass", "vcycles", "residual"]:
     assert k in rows[0], f"history column {k} missing"
 assert len(rows) == r["steps"] + r["prerelax_steps"], (len(rows), r["steps"])
+assert sum(row["stage"] == "volume" for row in rows) == r["volume_steps"]
+assert [int(row["step"]) for row in rows] == list(range(1, len(rows) + 1))
 head = open(f"{d}/field.vti", "rb").read(600).decode("latin-1")
 assert 'type="ImageData"' in head and 'WholeExtent="0 15 0 15 0 15"' in head, head
 print("run_outputs: all passed")

@@ -1,0 +1,136 @@
+#include "measure/sharp_volume.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace cmcsurf {
+
+namespace {
+
+// Corner c of a dual cell is offset (c & 1, c >> 1 & 1, c >> 2 & 1). The Kuhn split: one
+// tetrahedron per axis order, along the path 0 -> e_a -> e_a + e_b -> 7.
+constexpr int kKuhnTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
+                                 {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+
+// Sum over the 6 tetrahedra of the fraction above 1/2, for the 8 corner values.
+double cube_sixfold_fraction(const double v[8]) {
+  double s = 0.0;
+  for (const auto& t : kKuhnTets) {
+    const double g[4] = {v[t[0]] - 0.5, v[t[1]] - 0.5, v[t[2]] - 0.5, v[t[3]] - 0.5};
+    s += tet_fraction_above(g);
+  }
+  return s;
+}
+
+}  // namespace
+
+double tet_fraction_above(const double g[4]) {
+  int pos[4], neg[4], np = 0, nn = 0;
+  for (int a = 0; a < 4; ++a) {
+    if (g[a] > 0.0)
+      pos[np++] = a;
+    else
+      neg[nn++] = a;
+  }
+  auto t = [&](int from, int to) { return g[from] / (g[from] - g[to]); };
+  switch (np) {
+    case 0:
+      return 0.0;
+    case 4:
+      return 1.0;
+    case 1: {
+      const int p = pos[0];
+      return t(p, neg[0]) * t(p, neg[1]) * t(p, neg[2]);
+    }
+    case 3: {
+      const int q = neg[0];
+      return 1.0 - t(q, pos[0]) * t(q, pos[1]) * t(q, pos[2]);
+    }
+    default: {
+      const double t11 = t(pos[0], neg[0]), t12 = t(pos[0], neg[1]);
+      const double t21 = t(pos[1], neg[0]), t22 = t(pos[1], neg[1]);
+      return t11 * t12 + t12 * t21 * (1.0 - t11) + t21 * t22 * (1.0 - t12);
+    }
+  }
+}
+
+double linear_volume_fraction(const Field& phi) {
+  if (phi.ghost() < 1) throw std::invalid_argument("linear_volume_fraction: needs ghost >= 1");
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const std::ptrdiff_t off[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  double sixths = 0.0;  // sum of tetrahedron fractions: 6 per dual cell
+#pragma omp parallel for schedule(static) reduction(+ : sixths)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const double* row = &phi(0, j, k);
+      for (int i = 0; i < n; ++i) {
+        const double* p = row + i;
+        double v[8];
+        double lo = p[0], hi = p[0];
+        for (int c = 0; c < 8; ++c) {
+          v[c] = p[off[c]];
+          lo = std::min(lo, v[c]);
+          hi = std::max(hi, v[c]);
+        }
+        if (lo > 0.5)
+          sixths += 6.0;
+        else if (hi > 0.5)
+          sixths += cube_sixfold_fraction(v);
+      }
+    }
+  return sixths / (6.0 * double(phi.interior_size()));
+}
+
+double linear_volume_fraction_ref(const Field& phi) {
+  const int n = phi.n();
+  double sixths = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        double v[8];
+        for (int c = 0; c < 8; ++c)
+          v[c] = phi((i + (c & 1)) % n, (j + (c >> 1 & 1)) % n, (k + (c >> 2 & 1)) % n);
+        sixths += cube_sixfold_fraction(v);
+      }
+  return sixths / (6.0 * double(phi.interior_size()));
+}
+
+double sharp_volume_fraction(const Field& phi) {
+  if (phi.ghost() < 2) throw std::invalid_argument("sharp_volume_fraction: needs ghost >= 2");
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z(), sd = 1 + sy + sz;
+  Field psi(n, 1);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const double* p = &phi(0, j, k);
+      double* q = &psi(0, j, k);
+      for (int i = 0; i < n; ++i) {
+        const double c = p[i];
+        const double lap = p[i + 1] + p[i - 1] + p[i + sy] + p[i - sy] + p[i + sz] + p[i - sz] - 6 * c;
+        const double diag = p[i + sd] + p[i - sd] - 2 * c;
+        q[i] = c - (lap + diag) / 24.0;
+      }
+    }
+  psi.exchange_halo();
+  return linear_volume_fraction(psi);
+}
+
+double sharp_volume_fraction_ref(const Field& phi) {
+  const int n = phi.n();
+  auto at = [&](int i, int j, int k) { return phi((i + n) % n, (j + n) % n, (k + n) % n); };
+  Field psi(n, 0);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double c = at(i, j, k);
+        const double lap = at(i + 1, j, k) + at(i - 1, j, k) + at(i, j + 1, k) +
+                           at(i, j - 1, k) + at(i, j, k + 1) + at(i, j, k - 1) - 6 * c;
+        const double diag = at(i + 1, j + 1, k + 1) + at(i - 1, j - 1, k - 1) - 2 * c;
+        psi(i, j, k) = c - (lap + diag) / 24.0;
+      }
+  return linear_volume_fraction_ref(psi);
+}
+
+}  // namespace cmcsurf

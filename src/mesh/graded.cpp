@@ -1,0 +1,62 @@
+#include "mesh/graded.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace cmcsurf {
+
+double graded_target(const GradedRamp& ramp, const std::array<int, 3>& tiles, double s) {
+  return ramp.from_fraction + (ramp.to_fraction - ramp.from_fraction) * s / tiles[ramp.axis];
+}
+
+TiledSampler graded_sampler(const std::vector<GradedMember>& members, const GradedRamp& ramp,
+                            const std::array<int, 3>& tiles) {
+  if (members.size() < 2) throw std::invalid_argument("graded: needs at least two members");
+  const int n = members[0].phi.n();
+  for (std::size_t m = 1; m < members.size(); ++m) {
+    if (members[m].phi.n() != n)
+      throw std::invalid_argument(fmt::format("graded: members have grids {} and {}; all must match",
+                                              n, members[m].phi.n()));
+    if (!(members[m].volume_fraction > members[m - 1].volume_fraction))
+      throw std::invalid_argument("graded: member volume fractions must increase strictly");
+  }
+  const double lo = members.front().volume_fraction, hi = members.back().volume_fraction;
+  for (double a : {ramp.from_fraction, ramp.to_fraction})
+    if (a < lo || a > hi)
+      throw std::invalid_argument(fmt::format(
+          "graded: volume fraction {} is outside the members' range [{:.4f}, {:.4f}]", a, lo, hi));
+  return [&members, ramp, tiles, n](int i, int j, int k) {
+    const int idx[3] = {i, j, k};
+    const double s = (idx[ramp.axis] + 0.5) / n;
+    const double a = graded_target(ramp, tiles, s);
+    std::size_t m = 1;
+    while (m + 1 < members.size() && members[m].volume_fraction < a) ++m;
+    const GradedMember &p = members[m - 1], &q = members[m];
+    const double w = std::clamp((a - p.volume_fraction) / (q.volume_fraction - p.volume_fraction), 0.0, 1.0);
+    const int ii = i % n, jj = j % n, kk = k % n;
+    return (1.0 - w) * p.phi(ii, jj, kk) + w * q.phi(ii, jj, kk);
+  };
+}
+
+nlohmann::json graded_cell_report(const TiledSampler& f, int n, const GradedRamp& ramp,
+                                  const std::array<int, 3>& tiles) {
+  nlohmann::json cells = nlohmann::json::array();
+  for (int tz = 0; tz < tiles[2]; ++tz)
+    for (int ty = 0; ty < tiles[1]; ++ty)
+      for (int tx = 0; tx < tiles[0]; ++tx) {
+        long inside = 0;
+        for (int k = 0; k < n; ++k)
+          for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+              inside += f(tx * n + i, ty * n + j, tz * n + k) > 0.5;
+        const int t[3] = {tx, ty, tz};
+        cells.push_back({{"tile", {tx, ty, tz}},
+                         {"target", graded_target(ramp, tiles, t[ramp.axis] + 0.5)},
+                         {"achieved", double(inside) / (double(n) * n * n)}});
+      }
+  return cells;
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,263 @@
+#include "pipeline/sweep.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "io/csv.h"
+#include "measure/measures.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+namespace {
+
+constexpr int kMaxMembers = 1000;
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+double parse_number(const std::string& text, const std::string& spec) {
+  const std::string t = trim(text);
+  char* end = nullptr;
+  const double v = t.empty() ? NAN : std::strtod(t.c_str(), &end);
+  if (t.empty() || end != t.c_str() + t.size() || !std::isfinite(v))
+    throw std::invalid_argument(fmt::format(
+        "'{}' in '{}' is not a number; accepted: start:stop:step (e.g. 0.25:0.75:0.05) or a "
+        "list (e.g. 0.3,0.5,0.7)",
+        text, spec));
+  return v;
+}
+
+void check_fraction(double v, const std::string& spec) {
+  if (!(v > 0.0 && v < 1.0))
+    throw std::invalid_argument(
+        fmt::format("volume fraction {} in '{}' is outside (0, 1); accepted: 0 < A < 1", v, spec));
+}
+
+// Splits at commas outside parentheses.
+std::vector<std::string> split_top_level(const std::string& s) {
+  std::vector<std::string> parts;
+  std::string cur;
+  int depth = 0;
+  for (char ch : s) {
+    if (ch == '(') ++depth;
+    if (ch == ')') --depth;
+    if (ch == ',' && depth <= 0) {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += ch;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
+}  // namespace
+
+std::vector<double> parse_volume_fractions(const std::string& spec) {
+  std::vector<double> out;
+  if (spec.find(':') != std::string::npos) {
+    std::vector<std::string> parts;
+    std::size_t pos = 0;
+    for (std::size_t c; (c = spec.find(':', pos)) != std::string::npos; pos = c + 1)
+      parts.push_back(spec.substr(pos, c - pos));
+    parts.push_back(spec.substr(pos));
+    if (parts.size() != 3)
+      throw std::invalid_argument(
+          fmt::format("'{}' is not start:stop:step (e.g. 0.25:0.75:0.05)", spec));
+    const double start = parse_number(parts[0], spec), stop = parse_number(parts[1], spec),
+                 step = parse_number(parts[2], spec);
+    check_fraction(start, spec);
+    check_fraction(stop, spec);
+    if (start > stop)
+      throw std::invalid_argument(
+          fmt::format("start {} > stop {} in '{}'; accepted: start <= stop", start, stop, spec));
+    if (!(step > 0.0))
+      throw std::invalid_argument(
+          fmt::format("step {} in '{}'; accepted: step > 0", step, spec));
+    const double count = std::floor((stop - start) / step + 1e-9) + 1.0;
+    if (count > kMaxMembers)
+      throw std::invalid_argument(fmt::format("'{}' gives {} fractions; accepted: at most {}",
+                                              spec, count, kMaxMembers));
+    for (int i = 0; i < int(count); ++i)  // rounded so that 0.25 + 2 * 0.05 prints as 0.35
+      out.push_back(std::round((start + i * step) * 1e12) / 1e12);
+    return out;
+  }
+  for (const std::string& part : split_top_level(spec)) {
+    const double v = parse_number(part, spec);
+    check_fraction(v, spec);
+    out.push_back(v);
+  }
+  if (int(out.size()) > kMaxMembers)
+    throw std::invalid_argument(fmt::format("at most {} volume fractions", kMaxMembers));
+  return out;
+}
+
+std::vector<std::string> parse_surface_list(const std::string& spec) {
+  std::vector<std::string> out;
+  for (const std::string& part : split_top_level(spec)) {
+    const std::string name = trim(part);
+    if (name.empty())
+      throw std::invalid_argument(fmt::format("empty surface name in '{}'", spec));
+    validate_surface(name);  // throws, naming the accepted surfaces
+    if (!is_nodal_surface(name))
+      throw std::invalid_argument(fmt::format(
+          "'{}' has no nodal formula, so no volume fraction to sweep; accepted: P, D, G and the "
+          "other nodal surfaces of `cmcsurf surfaces`, or expr:<formula>",
+          name));
+    out.push_back(name);
+  }
+  return out;
+}
+
+std::string member_name(const std::string& surface, int surface_index, double alpha) {
+  const std::string base =
+      surface.rfind("expr:", 0) == 0 ? fmt::format("expr{}", surface_index) : surface;
+  std::string a = fmt::format("{:.2f}", alpha);
+  if (std::abs(std::stod(a) - alpha) > 1e-12) a = fmt::format("{:.6g}", alpha);
+  return base + "_" + a;
+}
+
+RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
+                             const RunParams& params, const ProgressFn& progress) {
+  const double alpha = params.volume_fraction;
+  Field phi0(params.grid, 2);
+  copy_interior(neighbour, phi0);
+  if (params.constrain == Constraint::kMass) {
+    shift_mean(phi0, alpha);
+    return relax_field(phi0, params, progress);
+  }
+  // Volume constraint: shift by the change of alpha, relax at that mass, then correct the mass
+  // by the remaining volume error (dV/dmass ~ 1) and relax again.
+  add_constant(phi0, alpha - neighbour_alpha);
+  phi0.exchange_halo();
+  RunResult r = relax_field(phi0, params, progress);
+  for (int c = 0; c < params.max_volume_corrections &&
+                  std::abs(r.final.volume_fraction - alpha) > params.volume_tol;
+       ++c) {
+    Field next(params.grid, 2);
+    copy_interior(r.phi, next);
+    add_constant(next, alpha - r.final.volume_fraction);
+    next.exchange_halo();
+    RunResult more = relax_field(next, params, progress);
+    for (StepRecord& s : more.history) {
+      s.step += int(r.history.size());
+      s.stage = "volume";
+    }
+    r.history.insert(r.history.end(), more.history.begin(), more.history.end());
+    r.phi = std::move(more.phi);
+    r.steps += more.steps;
+    r.volume_steps += more.steps;
+    r.vcycles += more.vcycles;
+    r.unconverged_steps += more.unconverged_steps;
+    r.converged = more.converged;
+    r.stop_reason = more.stop_reason;
+    r.final = more.final;
+    r.wall_seconds += more.wall_seconds;
+    r.solver_seconds += more.solver_seconds;
+  }
+  return r;
+}
+
+CmcQuality measure_cmc_quality(Field& relaxed, const RunParams& params, int nodal_relax_steps) {
+  if (!is_nodal_surface(params.surface))
+    return compare_with_nodal(relaxed, nullptr, 0.0, params.epsilon);
+  // Same fraction of cells with phi > 1/2 as the relaxed field (alpha up to the constraint).
+  const double v = volume_fraction(relaxed);
+  NodalPhaseField nodal = nodal_phase_field(
+      params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid, params.epsilon);
+  CmcQuality q = compare_with_nodal(relaxed, &nodal.phi, nodal.level, params.epsilon);
+  if (nodal_relax_steps > 0) {  // diffuse area after the profile has relaxed
+    RunParams short_relax = params;
+    short_relax.max_steps = nodal_relax_steps;
+    short_relax.stop = StopRule::kArea;
+    short_relax.tol = 0.0;  // exactly nodal_relax_steps steps
+    RunResult r = relax_field(nodal.phi, short_relax);
+    q.nodal_area = r.final.area;
+    q.nodal_relax_steps = r.steps;
+  }
+  return q;
+}
+
+void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
+               const MemberFn& done, const ProgressFn& progress) {
+  const int count = int(params.surfaces.size() * params.fractions.size());
+  int index = 0;
+  for (std::size_t s = 0; s < params.surfaces.size(); ++s) {
+    Field previous;
+    std::string previous_name;
+    double previous_alpha = 0.0;
+    for (double alpha : params.fractions) {
+      SweepMember m;
+      m.index = index++;
+      m.count = count;
+      m.surface = params.surfaces[s];
+      m.alpha = alpha;
+      m.name = member_name(m.surface, int(s), alpha);
+      m.params = params.run;
+      m.params.surface = m.surface;
+      m.params.volume_fraction = alpha;
+      const bool continued = params.continuation && !previous_name.empty();
+      m.started_from = continued ? previous_name : "nodal";
+      if (starting) starting(m);
+      RunResult r = continued ? run_from_neighbour(previous, previous_alpha, m.params, progress)
+                              : run_cmc(m.params, progress);
+      if (params.continuation) {
+        previous = Field(params.run.grid, 2);
+        copy_interior(r.phi, previous);
+        previous_name = m.name;
+        previous_alpha = alpha;
+      }
+      if (done) done(m, r);
+    }
+  }
+}
+
+namespace {
+
+CsvCell json_cell(const nlohmann::json& v) {
+  if (v.is_string()) return CsvCell(v.get<std::string>());
+  if (v.is_boolean()) return CsvCell(v.get<bool>() ? "true" : "false");
+  if (v.is_number_integer()) return CsvCell(v.get<long long>());
+  if (v.is_number()) return CsvCell(v.get<double>());
+  return CsvCell("");
+}
+
+}  // namespace
+
+std::string sweep_csv(const std::vector<nlohmann::json>& reports) {
+  static const std::vector<std::string> kFirst = {
+      "surface", "volume_fraction_target", "volume_fraction", "area", "mean_curvature",
+      "mean_curvature_mu", "mean_curvature_std", "area_iso", "nodal_area", "nodal_area_iso",
+      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_area_excess",
+      "nodal_area_excess_iso"};
+  std::vector<std::string> header;
+  std::set<std::string> seen;
+  auto add = [&](const std::string& key) {
+    if (seen.insert(key).second) header.push_back(key);
+  };
+  for (const std::string& key : kFirst) add(key);
+  for (const nlohmann::json& r : reports)
+    for (auto it = r.begin(); it != r.end(); ++it)
+      if (!it->is_object() && !it->is_array()) add(it.key());
+  CsvWriter csv(header);
+  for (const nlohmann::json& r : reports) {
+    std::vector<CsvCell> row;
+    for (const std::string& key : header)
+      row.push_back(r.contains(key) ? json_cell(r[key]) : CsvCell(""));
+    csv.add_row(row);
+  }
+  return csv.str();
+}
+
+}  // namespace cmcsurf

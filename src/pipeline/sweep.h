@@ -1,0 +1,72 @@
+// Families of CMC surfaces: one run per surface and volume fraction (Section 4.5, Fig. 11),
+// from the nodal formula or by continuation from the neighbouring member.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "measure/quality.h"
+#include "pipeline/cmc.h"
+
+namespace cmcsurf {
+
+// "start:stop:step" (inclusive of stop up to rounding) or a list "a,b,c" or one value. Every
+// fraction must lie in (0, 1), start <= stop, step > 0. Throws std::invalid_argument saying what
+// is wrong and what is accepted.
+std::vector<double> parse_volume_fractions(const std::string& spec);
+
+// A comma-separated list of nodal surfaces; commas inside parentheses belong to an expr:
+// formula. Throws std::invalid_argument for an unknown or non-nodal surface, or an empty list.
+std::vector<std::string> parse_surface_list(const std::string& spec);
+
+// Folder name of a member: "G_0.30" (two decimals unless more are needed); expr: surfaces are
+// named "expr<k>" by their position k in the list.
+std::string member_name(const std::string& surface, int surface_index, double alpha);
+
+struct SweepParams {
+  RunParams run;  // surface and volume_fraction are set per member
+  std::vector<std::string> surfaces;
+  std::vector<double> fractions;
+  bool continuation = false;  // start each member from the previous one of its family
+};
+
+struct SweepMember {
+  int index = 0;  // over the whole sweep
+  int count = 0;
+  std::string surface;
+  double alpha = 0.0;
+  std::string name;
+  std::string started_from;  // "nodal" or the previous member's name
+  RunParams params;
+};
+
+// Continuation start from the neighbour's converged field (at volume fraction neighbour_alpha):
+// with Constraint::kMass shifted to mean alpha (step 5) and relaxed (step 6); with kVolume
+// shifted by alpha - neighbour_alpha, relaxed, then mass-corrected by the remaining volume
+// error and relaxed again until |V - alpha| <= volume_tol (at most max_volume_corrections).
+RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
+                             const RunParams& params, const ProgressFn& progress = {});
+
+// CMC quality of a run's final field (docs/families.md): the nodal surface with the same
+// fraction of cells phi > 1/2 as the final field (nodal_phase_field), measured like the final
+// field: iso-surface area and local mean curvature as built; diffuse area (Appendix B) after `nodal_relax_steps` steps at epsilon so
+// that its profile is close to the discrete equilibrium one (the diffuse area of a sampled tanh
+// profile is biased when epsilon is below a few h); the area before relaxing is kept too.
+inline constexpr int kNodalRelaxSteps = 5;
+CmcQuality measure_cmc_quality(Field& relaxed, const RunParams& params,
+                               int nodal_relax_steps = kNodalRelaxSteps);
+
+// Runs every member, surfaces outermost, fractions in the given order. `starting` is called
+// before a member runs, `done` after (it may keep or write the result; the field is only kept
+// here for the next member's continuation).
+using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
+void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
+               const MemberFn& done, const ProgressFn& progress = {});
+
+// sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
+// booleans; null is an empty cell), the main quantities first.
+std::string sweep_csv(const std::vector<nlohmann::json>& reports);
+
+}  // namespace cmcsurf

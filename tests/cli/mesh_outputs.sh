@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# cmcsurf mesh / graded / run --mesh: files, reports, closed manifold solids; the STL checked by
+# admesh and the 3MF by Python's zipfile + XML parser when those are installed.
+set -u
+bin="$1"
+export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+check() { if ! "$@"; then echo "FAIL: $*"; fail=1; fi; }
+json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3"; fail=1; }; }
+
+# Quick fields: a few steps at 16^3 (the mesher only needs a periodic field).
+for a in 0.3 0.6; do
+  "$bin" run --surface G --grid 16 --max-steps 3 --volume-fraction "$a" --quiet --out "$work/g$a" \
+    || { echo "FAIL: run $a"; exit 1; }
+done
+"$bin" run --surface P --grid 16 --max-steps 3 --quiet --mesh stl --out "$work/p" || fail=1
+check test -s "$work/p/surface.stl"
+json_has "$work/p/surface.stl.json" euler_characteristic -4
+
+for solid in surface network; do
+  for fmt in stl ply obj 3mf; do
+    out="$work/m_$solid.$fmt"
+    "$bin" mesh --from "$work/g0.3" --tile 2x2x2 --cell-size 2.5 --units mm --solid "$solid" \
+      --out "$out" --quiet || { echo "FAIL: mesh $solid $fmt"; fail=1; }
+    check test -s "$out"
+    json_has "$out.json" manifold true
+    json_has "$out.json" duplicate_triangles 0
+    json_has "$out.json" degenerate_triangles 0
+  done
+done
+json_has "$work/m_network.stl.json" closed true
+json_has "$work/m_surface.stl.json" closed false
+"$bin" mesh --from "$work/g0.3/field.vti" --tile 2 --cell-size 2.5 --solid network --other-phase \
+  --format stl --out "$work/other.bin" --quiet || fail=1
+json_has "$work/other.bin.json" closed true
+"$bin" mesh --from "$work/g0.3" --tile 1x1x2 --cell-size 2.5 --solid sheet --thickness 0.4 \
+  --out "$work/sheet.stl" --quiet || fail=1
+json_has "$work/sheet.stl.json" closed true
+"$bin" graded --members "$work/g0.3,$work/g0.6" --axis z --from-fraction 0.35 --to-fraction 0.55 \
+  --tile 1x1x3 --cell-size 2 --solid network --out "$work/graded.stl" --quiet || fail=1
+json_has "$work/graded.stl.json" closed true
+json_has "$work/graded.stl.json" manifold true
+check grep -q '"achieved"' "$work/graded.stl.json"
+# Nothing but the outputs: no temporaries left behind.
+if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+
+if command -v admesh >/dev/null; then
+  for f in "$work/m_network.stl" "$work/sheet.stl" "$work/graded.stl"; do
+    admesh -e "$f" >"$work/admesh.txt" 2>&1 || { echo "FAIL: admesh $f"; fail=1; }
+    for key in "Total disconnected facets" "Backwards edges" "Degenerate facets"; do
+      grep -E "^$key +: +0( |$)" "$work/admesh.txt" >/dev/null \
+        || { echo "FAIL: admesh $f: $key"; grep "$key" "$work/admesh.txt"; fail=1; }
+    done
+  done
+else
+  echo "mesh_outputs: admesh not installed, skipping the independent STL check (apt-get install admesh)"
+fi
+if command -v python3 >/dev/null; then
+  python3 - "$work/m_network.3mf" <<'PY' || { echo "FAIL: 3MF check"; fail=1; }
+import sys, zipfile, xml.etree.ElementTree as ET
+z = zipfile.ZipFile(sys.argv[1])
+assert z.testzip() is None, "CRC mismatch"
+assert set(z.namelist()) == {"[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model"}
+ns = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
+root = ET.fromstring(z.read("3D/3dmodel.model"))
+assert root.get("unit") == "millimeter"
+nv = len(root.findall(".//m:vertex", ns)); nt = len(root.findall(".//m:triangle", ns))
+assert nv > 0 and nt > 0, (nv, nt)
+PY
+else
+  echo "mesh_outputs: python3 not installed, skipping the 3MF check"
+fi
+[ "$fail" -eq 0 ] && echo "mesh_outputs: all passed"
+exit "$fail"
