@@ -127,7 +127,7 @@ double level_radius(const Field& phi, double dx, double dy, double dz) {
 namespace {
 
 double sphericity(const Measures& m) {
-  return std::cbrt(M_PI) * std::pow(6.0 * m.mass, 2.0 / 3.0) / m.area;
+  return std::cbrt(M_PI) * std::pow(6.0 * m.volume_fraction, 2.0 / 3.0) / m.area;
 }
 
 double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
