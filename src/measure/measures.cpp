@@ -177,14 +177,10 @@ double area(const Field& phi, double epsilon) {
   return kSixSqrt2 * epsilon * sum / (144.0 * h * h) * h * h * h;
 }
 
-double area_ref(const Field& phi, double epsilon) {
-  require_ghost(phi, 2, "area_ref");
-  const int n = phi.n();
+// |grad_d phi|^2 with the fourth-order central gradient of Appendix B, written out plainly
+// for the reference twins.
+static double grad4_squared_ref(const Field& phi, int i, int j, int k) {
   const double h = phi.h();
-  double sum = 0.0;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
         const double gx = (phi(i - 2, j, k) - 8.0 * phi(i - 1, j, k) + 8.0 * phi(i + 1, j, k) -
                            phi(i + 2, j, k)) /
                           (12.0 * h);
@@ -194,7 +190,18 @@ double area_ref(const Field& phi, double epsilon) {
         const double gz = (phi(i, j, k - 2) - 8.0 * phi(i, j, k - 1) + 8.0 * phi(i, j, k + 1) -
                            phi(i, j, k + 2)) /
                           (12.0 * h);
-        sum += 6.0 * std::sqrt(2.0) * epsilon * (gx * gx + gy * gy + gz * gz) * h * h * h;
+  return gx * gx + gy * gy + gz * gz;
+}
+
+double area_ref(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "area_ref");
+  const int n = phi.n();
+  const double h = phi.h();
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        sum += 6.0 * std::sqrt(2.0) * epsilon * grad4_squared_ref(phi, i, j, k) * h * h * h;
       }
   return sum;
 }
@@ -285,16 +292,7 @@ double mean_curvature_ref(const Field& phi) {
               kappa +=
                   ((a ? nv[0] : -nv[0]) + (b ? nv[1] : -nv[1]) + (c ? nv[2] : -nv[2])) / (4.0 * h);
             }
-        const double gx = (phi(i - 2, j, k) - 8.0 * phi(i - 1, j, k) + 8.0 * phi(i + 1, j, k) -
-                           phi(i + 2, j, k)) /
-                          (12.0 * h);
-        const double gy = (phi(i, j - 2, k) - 8.0 * phi(i, j - 1, k) + 8.0 * phi(i, j + 1, k) -
-                           phi(i, j + 2, k)) /
-                          (12.0 * h);
-        const double gz = (phi(i, j, k - 2) - 8.0 * phi(i, j, k - 1) + 8.0 * phi(i, j, k + 1) -
-                           phi(i, j, k + 2)) /
-                          (12.0 * h);
-        const double w = gx * gx + gy * gy + gz * gz;
+        const double w = grad4_squared_ref(phi, i, j, k);
         sum_kw += kappa * w;
         sum_w += w;
       }

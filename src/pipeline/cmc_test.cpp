@@ -58,7 +58,9 @@ TEST(Pipeline, EnergyDecreasesAndMassIsConserved) {
     // Eyre's splitting: F^{n+1} <= F^n for the exact step; the solve is exact to 1e-11.
     EXPECT_LE(s.energy, last_energy + 1e-10) << "step " << s.step;
     last_energy = s.energy;
-    if (s.stage == "relax") EXPECT_NEAR(s.mass, 0.35, 1e-13) << "step " << s.step;
+    if (s.stage == "relax") {
+      EXPECT_NEAR(s.mass, 0.35, 1e-13) << "step " << s.step;
+    }
   }
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.final.mass, 0.35, 1e-13);
