@@ -10,6 +10,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "measure/measures.h"
+#include "measure/sharp_volume.h"
 #include "mesh/graded.h"
 #include "mesh_options.h"
 
@@ -71,7 +72,7 @@ CommandFn add_graded_command(CLI::App& root) {
             for (const std::string& m : cmd->members) {
               GradedMember g;
               g.phi = load_phi(m, "--members");
-              g.volume_fraction = volume_fraction(g.phi);
+              g.volume_fraction = sharp_volume_fraction(g.phi);
               if (!members.empty() && g.phi.n() != members[0].phi.n())
                 throw UsageError(fmt::format("--members: '{}' has grid {}, the first has {}; all "
                                              "members must have the same grid",

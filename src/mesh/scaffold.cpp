@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "measure/measures.h"
+#include "measure/sharp_volume.h"
 #include "mesh/marching_tets.h"
 
 namespace cmcsurf {
@@ -238,7 +239,7 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
     r["area_per_cell_units"] = "unit cell edge^2";
   }
   if (p.solid == SolidKind::kNetwork) {
-    double frac = volume_fraction(phi);
+    double frac = sharp_volume_fraction(phi);  // as report.json volume_fraction
     if (p.other_phase) frac = 1.0 - frac;
     r["volume_fraction_mesh"] = s.volume / box;
     r["volume_fraction_field"] = frac;
