@@ -103,6 +103,12 @@ CommandFn add_run_command(CLI::App& root) {
               std::cerr << fmt::format(
                   "warning: {} time steps ended at --max-vcycles before --mg-tol\n",
                   r.unconverged_steps);
+            if (r.volume_constrained && !r.volume_converged)
+              std::cerr << fmt::format(
+                  "warning: the volume fraction {:.6f} is not within --volume-tol of {} after {} "
+                  "mass corrections (report.json volume_iterates); try a smaller --tol\n",
+                  r.final.volume_fraction, p.volume_fraction,
+                  r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
             return 0;
           }};
 }
