@@ -94,22 +94,32 @@ void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
       }
 }
 
+namespace {
+
+// Relaxes the cells i = first, first + step, ... of row (j, k) by (A.3)-(A.4).
+inline void relax_row(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
+                      const PointSolve& solve, int j, int k, int first, int step) {
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  double* ph = &phi(0, j, k);
+  double* nv = &nu(0, j, k);
+  const double* s1 = &src_phi(0, j, k);
+  const double* s2 = &src_nu(0, j, k);
+  for (int i = first; i < n; i += step)
+    solve(ph[i], nv[i], neighbour_sum(ph + i, sy, sz), neighbour_sum(nv + i, sy, sz), s1[i],
+          s2[i]);
+}
+
+}  // namespace
+
 void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                   const ChParams& p, int colour) {
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
-  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
 #pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
-      double* ph = &phi(0, j, k);
-      double* nv = &nu(0, j, k);
-      const double* s1 = &src_phi(0, j, k);
-      const double* s2 = &src_nu(0, j, k);
-      for (int i = (j + k + colour) & 1; i < n; i += 2)
-        solve(ph[i], nv[i], neighbour_sum(ph + i, sy, sz), neighbour_sum(nv + i, sy, sz), s1[i],
-              s2[i]);
-    }
+    for (int j = 0; j < n; ++j)
+      relax_row(phi, nu, src_phi, src_nu, solve, j, k, (j + k + colour) & 1, 2);
 }
 
 namespace {
@@ -151,17 +161,8 @@ void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Fie
                           const ChParams& p) {
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
-  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
-      double* ph = &phi(0, j, k);
-      double* nv = &nu(0, j, k);
-      const double* s1 = &src_phi(0, j, k);
-      const double* s2 = &src_nu(0, j, k);
-      for (int i = 0; i < n; ++i)
-        solve(ph[i], nv[i], neighbour_sum(ph + i, sy, sz), neighbour_sum(nv + i, sy, sz), s1[i],
-              s2[i]);
-    }
+    for (int j = 0; j < n; ++j) relax_row(phi, nu, src_phi, src_nu, solve, j, k, 0, 1);
 }
 
 void ChOperator::apply(Fields& u, Fields& out) const {
