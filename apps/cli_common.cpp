@@ -139,6 +139,12 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
           "--max-volume-corrections", p.max_volume_corrections, "0..100");
 }
 
+void add_threads_option(CLI::App& app, int& threads) {
+  app.add_option("--threads", threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+}
+
 int apply_threads(int threads) {
   if (threads > 0) omp_set_num_threads(threads);
   return omp_get_max_threads();

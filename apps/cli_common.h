@@ -27,6 +27,8 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
 // Converts the strings and checks every range; throws UsageError.
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);
 
+// --threads T (T >= 0; 0 keeps OMP_NUM_THREADS or all cores), for every command.
+void add_threads_option(CLI::App& app, int& threads);
 // Sets the OpenMP thread count (0 keeps the default) and returns the count in use.
 int apply_threads(int threads);
 

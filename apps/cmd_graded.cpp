@@ -47,12 +47,9 @@ CommandFn add_graded_command(CLI::App& root) {
   app->add_option("--to-fraction", cmd->to_fraction,
                   "Phase-1 volume fraction at the high end of the axis")->required();
   add_mesh_output_options(*app, cmd->mesh, false);
-  app->add_option("--threads", cmd->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
-      ->capture_default_str();
+  add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No summary output");
   return {app, [cmd]() -> int {
-            if (cmd->threads < 0)
-              throw UsageError(fmt::format("--threads: got {}; accepted: >= 0", cmd->threads));
             GradedRamp ramp;
             if (cmd->axis == "x") ramp.axis = 0;
             else if (cmd->axis == "y") ramp.axis = 1;

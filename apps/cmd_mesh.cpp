@@ -30,12 +30,9 @@ CommandFn add_mesh_command(CLI::App& root) {
       "gyroid30 --tile 3x3x3 --cell-size 2.5 --units mm --solid network --out gyroid30.stl");
   app->add_option("--from", cmd->from, "Run directory (with field.vti) or a .vti file")->required();
   add_mesh_output_options(*app, cmd->mesh, true);
-  app->add_option("--threads", cmd->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
-      ->capture_default_str();
+  add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No summary output");
   return {app, [cmd]() -> int {
-            if (cmd->threads < 0)
-              throw UsageError(fmt::format("--threads: got {}; accepted: >= 0", cmd->threads));
             const Field phi = load_phi(cmd->from, "--from");
             const MeshPlan plan = finish_mesh_output_options(cmd->mesh, phi.n());
             apply_threads(cmd->threads);

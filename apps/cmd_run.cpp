@@ -34,8 +34,7 @@ CommandFn add_run_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand(
       "run", "Compute one triply periodic CMC surface at a prescribed volume fraction");
   add_run_options(*app, cmd->params, cmd->strings, true);
-  app->add_option("--threads", cmd->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
-      ->capture_default_str();
+  add_threads_option(*app, cmd->threads);
   app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti)")
       ->capture_default_str();
   app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
@@ -46,8 +45,6 @@ CommandFn add_run_command(CLI::App& root) {
   return {app, [cmd]() -> int {
             RunParams& p = cmd->params;
             finish_run_options(p, cmd->strings, true);
-            if (cmd->threads < 0)
-              throw UsageError(fmt::format("--threads: got {}; accepted: >= 0", cmd->threads));
             const std::filesystem::path dir(cmd->out);
             if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
               throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));

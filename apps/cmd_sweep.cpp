@@ -101,8 +101,7 @@ CommandFn add_sweep_command(CLI::App& root) {
   app->add_flag("--continuation", cmd->continuation,
                 "Start each member from the previous member's field shifted to the new mean, "
                 "instead of the nodal formula");
-  app->add_option("--threads", cmd->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
-      ->capture_default_str();
+  add_threads_option(*app, cmd->threads);
   app->add_option("--out", cmd->out, "Output directory")->capture_default_str();
   app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
   app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
@@ -123,8 +122,6 @@ CommandFn add_sweep_command(CLI::App& root) {
             } catch (const std::invalid_argument& e) {
               throw UsageError(fmt::format("--volume-fractions: {}", e.what()));
             }
-            if (cmd->threads < 0)
-              throw UsageError(fmt::format("--threads: got {}; accepted: >= 0", cmd->threads));
             const fs::path dir(cmd->out);
             if (fs::exists(dir) && !fs::is_directory(dir))
               throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));

@@ -123,7 +123,7 @@ CommandFn add_verify_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--cube-steps", cmd->cube_steps, "Step limit of the Section 4.2 experiment")
       ->capture_default_str();
-  app->add_option("--threads", cmd->threads, "OpenMP threads (0: default)")->capture_default_str();
+  add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   return {app, [cmd]() -> int {
             const std::string problem = check_coarsenable(cmd->transition_grid);
