@@ -54,6 +54,11 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
                 "V-cycles stop when the defect norm sqrt(mean (dt d_phi)^2 + mean d_nu^2) "
                 "is below this")
       ->capture_default_str();
+  g->add_option("--mg-rtol", p.solver.rtol,
+                "Also stop V-cycles when the defect is below this times the step's first defect "
+                "(0: off, the paper-faithful default; 1e-3 is a fast setting, see "
+                "docs/performance.md)")
+      ->capture_default_str();
   g->add_option("--max-vcycles", p.solver.max_vcycles, "Limit on V-cycles per time step")
       ->capture_default_str();
   g->add_option("--pre-sweeps", p.solver.fas.pre_sweeps, "Presmoothing sweeps (beta)")
@@ -122,6 +127,7 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
   require(p.max_steps >= 1, "--max-steps", p.max_steps, "K >= 1");
   require(p.radius > 0.0 && p.radius < 0.5, "--radius", p.radius, "0 < R < 0.5");
   require(p.solver.tol > 0.0, "--mg-tol", p.solver.tol, "> 0");
+  require(p.solver.rtol >= 0.0 && p.solver.rtol < 1.0, "--mg-rtol", p.solver.rtol, "0 <= R < 1");
   require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");
   require(p.solver.fas.pre_sweeps >= 0 && p.solver.fas.pre_sweeps <= 50, "--pre-sweeps",
           p.solver.fas.pre_sweeps, "0..50");

@@ -49,7 +49,8 @@ StepStats ChStepper::step(Field& phi) {
     throw SolverDiverged(fmt::format(
         "the phase field or the time step's source is not finite (defect norm {}) on N = {}",
         stats.first_residual, phi.n()));
-  while (stats.residual > options_.tol && stats.vcycles < options_.max_vcycles) {
+  const double target = std::max(options_.tol, options_.rtol * stats.first_residual);
+  while (stats.residual > target && stats.vcycles < options_.max_vcycles) {
     solver_.vcycle(op_);
     ++stats.vcycles;
     stats.residual = solver_.residual_norm(op_);
@@ -62,7 +63,7 @@ StepStats ChStepper::step(Field& phi) {
           stats.residual, stats.vcycles, stats.first_residual, p.dt, p.epsilon, phi.n()));
     }
   }
-  stats.converged = stats.residual <= options_.tol;
+  stats.converged = stats.residual <= target;
   // The exact discrete solution conserves mass (the periodic Laplacians sum to zero), but the
   // defect of Eq. (5) left at the tolerance has a mean of dt * mean(d_phi) that would drift the
   // mass by up to mg_tol per step. Removing the constant mode of that defect restores

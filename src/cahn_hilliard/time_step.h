@@ -12,6 +12,10 @@ namespace cmcsurf {
 struct StepSolverOptions {
   FasOptions fas;
   double tol = 1e-9;      // stop V-cycles when the defect norm (ChOperator::norm) is below this
+  // ... or below rtol times the step's first defect (0: off). The first defect measures how far
+  // phi^n is from solving the new step, i.e. the step's change, so this stops each step at an
+  // accuracy relative to what the step does (docs/performance.md).
+  double rtol = 0.0;
   int max_vcycles = 100;  // per time step
   // A defect this many times above the step's first defect, or not finite, is divergence.
   double divergence_factor = 1e6;

@@ -29,6 +29,7 @@ nlohmann::json params_json(const RunParams& p) {
       {"volume_tol", p.volume_tol},
       {"max_volume_corrections", p.max_volume_corrections},
       {"mg_tol", p.solver.tol},
+      {"mg_rtol", p.solver.rtol},
       {"max_vcycles", p.solver.max_vcycles},
       {"pre_sweeps", p.solver.fas.pre_sweeps},
       {"post_sweeps", p.solver.fas.post_sweeps},

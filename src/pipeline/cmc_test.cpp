@@ -151,3 +151,26 @@ TEST(Pipeline, SphereIsStationary) {
 
 }  // namespace
 }  // namespace cmcsurf
+
+namespace cmcsurf {
+namespace {
+
+// --mg-rtol (issue 5's relative V-cycle stopping) keeps the paper-faithful result: final area
+// within 1e-4 relative (issue 5 asks for 0.1 %; measured 5e-7 at 64^3 with 1e-2), same volume
+// fraction, with fewer V-cycles.
+TEST(Pipeline, RelativeVCycleToleranceKeepsTheResult) {
+  RunParams p = small_gyroid(0.35);
+  p.grid = 32;
+  p.epsilon = 0.02;
+  p.solver.tol = 1e-9;
+  const RunResult faithful = run_cmc(p);
+  p.solver.rtol = 1e-2;
+  const RunResult fast = run_cmc(p);
+  EXPECT_NEAR(fast.final.area / faithful.final.area, 1.0, 1e-4);
+  EXPECT_NEAR(fast.final.volume_fraction, faithful.final.volume_fraction, 1e-5);
+  EXPECT_NEAR(fast.final.mass, faithful.final.mass, 1e-5);
+  EXPECT_LT(fast.vcycles, faithful.vcycles);
+}
+
+}  // namespace
+}  // namespace cmcsurf
