@@ -59,6 +59,10 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
                 "(0: off, the paper-faithful default; 1e-3 is a fast setting, see "
                 "docs/performance.md)")
       ->capture_default_str();
+  g->add_option("--coarse-levels", p.coarse_levels,
+                "Coarse-to-fine continuation: run on N/2^K first, then interpolate and finish on "
+                "each finer grid (0: off, the paper's procedure; nodal surfaces only)")
+      ->capture_default_str();
   g->add_option("--max-vcycles", p.solver.max_vcycles, "Limit on V-cycles per time step")
       ->capture_default_str();
   g->add_option("--pre-sweeps", p.solver.fas.pre_sweeps, "Presmoothing sweeps (beta)")
@@ -128,6 +132,12 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
   require(p.radius > 0.0 && p.radius < 0.5, "--radius", p.radius, "0 < R < 0.5");
   require(p.solver.tol > 0.0, "--mg-tol", p.solver.tol, "> 0");
   require(p.solver.rtol >= 0.0 && p.solver.rtol < 1.0, "--mg-rtol", p.solver.rtol, "0 <= R < 1");
+  require(p.coarse_levels >= 0 && p.coarse_levels <= 4, "--coarse-levels", p.coarse_levels,
+          "0..4");
+  if (p.coarse_levels > 0 && !check_coarsenable(p.grid >> p.coarse_levels).empty())
+    throw UsageError(fmt::format("--coarse-levels: {} halvings of --grid {} give {}, which {}",
+                                 p.coarse_levels, p.grid, p.grid >> p.coarse_levels,
+                                 check_coarsenable(p.grid >> p.coarse_levels)));
   require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");
   require(p.solver.fas.pre_sweeps >= 0 && p.solver.fas.pre_sweeps <= 50, "--pre-sweeps",
           p.solver.fas.pre_sweeps, "0..50");

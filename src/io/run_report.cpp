@@ -30,6 +30,7 @@ nlohmann::json params_json(const RunParams& p) {
       {"max_volume_corrections", p.max_volume_corrections},
       {"mg_tol", p.solver.tol},
       {"mg_rtol", p.solver.rtol},
+      {"coarse_levels", p.coarse_levels},
       {"max_vcycles", p.solver.max_vcycles},
       {"pre_sweeps", p.solver.fas.pre_sweeps},
       {"post_sweeps", p.solver.fas.post_sweeps},
@@ -64,7 +65,8 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   j["prerelax_steps"] = r.prerelax_steps;
   j["time"] = r.history.empty() ? 0.0 : r.history.back().time;
   j["vcycles"] = r.vcycles;
-  const int all_steps = r.steps + r.prerelax_steps;
+  j["coarse_steps"] = r.coarse_steps;
+  const int all_steps = r.steps + r.prerelax_steps + r.coarse_steps;
   j["vcycles_per_step"] = all_steps ? double(r.vcycles) / all_steps : 0.0;
   j["seconds_per_vcycle"] = r.vcycles ? r.solver_seconds / double(r.vcycles) : 0.0;
   j["unconverged_steps"] = r.unconverged_steps;

@@ -5,7 +5,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "measure/measures.h"
+#include "multigrid/fas.h"
 #include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 
@@ -128,6 +131,15 @@ class Evolution {
 
   void set_epsilon(double eps) { stepper_.set_params({eps, params_.dt(), params_.smoother}); }
 
+  // Continues the step count, time and clock of an earlier (coarser) evolution.
+  void continue_after(const RunResult& earlier, Clock::time_point t0) {
+    if (!earlier.history.empty()) {
+      step_ = earlier.history.back().step;
+      time_ = earlier.history.back().time;
+    }
+    t0_ = t0;
+  }
+
   // One step at the stepper's epsilon, recorded in the history.
   StepRecord advance(const char* stage, double area_before) {
     Field& phi = result_.phi;
@@ -200,7 +212,7 @@ class Evolution {
   RunResult& result_;
   Field previous_;
   ChStepper stepper_;
-  const Clock::time_point t0_ = Clock::now();
+  Clock::time_point t0_ = Clock::now();
   int step_ = 0;
   double time_ = 0.0;
 };
@@ -252,6 +264,61 @@ RunResult relax_field(const Field& phi0, const RunParams& params, const Progress
   return result;
 }
 
+namespace {
+
+// Coarse-to-fine continuation: the whole algorithm on N/2, then the result interpolated to N
+// and relaxed there (and volume-corrected), so most steps happen on the cheaper grid.
+RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progress) {
+  const auto t0 = Clock::now();
+  RunParams coarse_params = params;
+  coarse_params.grid = params.grid / 2;
+  coarse_params.coarse_levels = params.coarse_levels - 1;
+  RunResult coarse = run_cmc(coarse_params, progress);
+  coarse.phi.exchange_halo();
+
+  RunResult result;
+  result.phi = Field(params.grid, 2);
+  prolongate_trilinear(coarse.phi, result.phi);
+  result.history = coarse.history;
+  for (StepRecord& r : result.history) r.stage = fmt::format("{}@{}", r.stage, coarse_params.grid);
+  result.coarse_steps = coarse.steps + coarse.prerelax_steps + coarse.coarse_steps;
+  result.vcycles = coarse.vcycles;
+  result.solver_seconds = coarse.solver_seconds;
+  result.unconverged_steps = coarse.unconverged_steps;
+  result.bisection = coarse.bisection;
+  result.mass_before_shift = coarse.mass_before_shift;
+  result.initial = coarse.initial;
+  Evolution evolution(params, progress, result);
+  evolution.continue_after(coarse, t0);
+  evolution.relax();
+  if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
+  result.wall_seconds = seconds_since(t0);
+  return result;
+}
+
+}  // namespace
+
+void prolongate_trilinear(const Field& coarse, Field& fine) {
+  const int nf = fine.n();
+  // Cell-centred linear interpolation: a fine cell's centre lies a quarter of a coarse cell
+  // from its parent's centre, so per axis the weights are 3/4 (parent) and 1/4 (neighbour).
+#pragma omp parallel for schedule(static) if (nf >= kParallelMinN)
+  for (int k = 0; k < nf; ++k)
+    for (int j = 0; j < nf; ++j)
+      for (int i = 0; i < nf; ++i) {
+        const int ci = i / 2, cj = j / 2, ck = k / 2;
+        const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
+        double v = 0.0;
+        for (int c = 0; c < 8; ++c) {
+          const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
+          const double w = (a ? 0.25 : 0.75) * (b ? 0.25 : 0.75) * (d ? 0.25 : 0.75);
+          v += w * coarse(ci + a * di, cj + b * dj, ck + d * dk);
+        }
+        fine(i, j, k) = v;
+      }
+  fine.exchange_halo();
+}
+
 RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   InitialFieldParams init;
   init.surface = params.surface;
@@ -260,6 +327,8 @@ RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   init.seed = params.seed;
   init.noise_amplitude = params.noise_amplitude;
   if (!is_nodal_surface(params.surface)) return relax_field(make_initial_field(init, params.grid, 2), params, progress);
+  if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty())
+    return run_cmc_from_coarse(params, progress);
 
   RunResult result;
   result.phi = make_initial_field(init, params.grid, 2);  // step 1

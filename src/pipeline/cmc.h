@@ -44,6 +44,9 @@ struct RunParams {
   double volume_tol = 1e-4;
   int max_volume_corrections = 8;
   StepSolverOptions solver;
+  // Coarse-to-fine continuation (issue 5, off by default): run the algorithm on N/2^K first,
+  // then interpolate and relax on each finer grid. Nodal surfaces only.
+  int coarse_levels = 0;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -98,6 +101,7 @@ struct RunResult {
   int steps = 0;            // relaxation steps at epsilon (step 6 and the "volume" stage)
   int volume_steps = 0;     // of which after mass corrections (stage "volume")
   int prerelax_steps = 0;   // steps at 5 epsilon (step 3)
+  int coarse_steps = 0;     // all steps on coarser grids (coarse_levels > 0)
   long vcycles = 0;         // over all steps
   int unconverged_steps = 0;  // steps whose V-cycles hit the limit before the tolerance
   bool converged = false;   // the stop rule was met before max_steps
@@ -133,6 +137,9 @@ void shift_mean(Field& phi, double alpha);
 
 // Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
 RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress = {});
+
+// Cell-centred trilinear interpolation from n to 2n (weights 3/4, 1/4 per axis; keeps the mean).
+void prolongate_trilinear(const Field& coarse, Field& fine);
 
 // Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
 // parameters the caller should have validated.
