@@ -2,7 +2,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
+
+#include "measure/quality.h"
 
 #include "pipeline/cmc.h"
 
@@ -51,5 +56,17 @@ class Progress {
 };
 
 std::string version_string();
+
+// A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
+// writes (the surface mesh), and report.json last, since it marks a complete run. The report
+// is run_report() plus the CMC quality keys plus `extra` (which may override, e.g. the target
+// of a continued sweep member). Returns the report and the quality.
+struct RunFolder {
+  nlohmann::json report;
+  CmcQuality quality;
+};
+RunFolder write_run_folder(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
+                           int threads, bool float32, const nlohmann::json& extra = {},
+                           const std::function<void()>& extra_files = {});
 
 }  // namespace cmcsurf::cli

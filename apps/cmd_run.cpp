@@ -66,22 +66,11 @@ CommandFn add_run_command(CLI::App& root) {
             RunResult r = run_cmc(p, [&](const StepRecord& s) { progress.step(s); });
             progress.finish();
 
-            ensure_directory(dir);
-            nlohmann::json report = run_report(p, r, threads);
-            const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
-            report.update(quality_json(quality, r.final.area));
-            write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
-            write_history_csv(dir / "history.csv", r.history);
-            write_vti(dir / "field.vti", {{"phi", &r.phi}}, cmd->float32,
-                      {{"surface", p.surface},
-                       {"volume_fraction_target", fmt::format("{}", p.volume_fraction)},
-                       {"epsilon", fmt::format("{}", p.epsilon)},
-                       {"grid", fmt::format("{}", p.grid)},
-                       {"area", fmt::format("{:.17g}", r.final.area)},
-                       {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
-                       {"version", version_string()}});
-            if (!cmd->mesh_format.empty()) write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
-            write_json_atomic(dir / "report.json", report);  // last: marks a complete run
+            const nlohmann::json report =
+                write_run_folder(dir, p, r, threads, cmd->float32, {}, [&] {
+                  if (!cmd->mesh_format.empty())
+                    write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
+                }).report;
 
             if (!cmd->quiet) {
               std::cerr << fmt::format(

@@ -140,25 +140,13 @@ CommandFn add_sweep_command(CLI::App& root) {
             };
             auto done = [&](const SweepMember& m, RunResult& r) {
               const RunParams& p = m.params;
-              nlohmann::json report = run_report(p, r, threads);
-              report["volume_fraction_target"] = m.alpha;  // also for continued members
-              const CmcQuality quality = measure_cmc_quality(r.phi, p);
-              report.update(quality_json(quality, r.final.area));
-              report["member"] = m.name;
-              report["started_from"] = m.started_from;
-              const fs::path member = dir / m.name;
-              ensure_directory(member);
-              write_history_csv(member / "history.csv", r.history);
-              write_curvature_histogram_csv(member / "curvature_histogram.csv", quality);
-              write_vti(member / "field.vti", {{"phi", &r.phi}}, cmd->float32,
-                        {{"surface", p.surface},
-                         {"volume_fraction_target", fmt::format("{}", m.alpha)},
-                         {"epsilon", fmt::format("{}", p.epsilon)},
-                         {"grid", fmt::format("{}", p.grid)},
-                         {"area", fmt::format("{:.17g}", r.final.area)},
-                         {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
-                         {"version", version_string()}});
-              write_json_atomic(member / "report.json", report);
+              const RunFolder folder = write_run_folder(
+                  dir / m.name, p, r, threads, cmd->float32,
+                  {{"volume_fraction_target", m.alpha},  // also for continued members
+                   {"member", m.name},
+                   {"started_from", m.started_from}});
+              const nlohmann::json& report = folder.report;
+              const CmcQuality& quality = folder.quality;
               reports.push_back(report);
               write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
               progress.finish();
