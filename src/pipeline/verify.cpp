@@ -126,6 +126,20 @@ double level_radius(const Field& phi, double dx, double dy, double dz) {
 
 namespace {
 
+// Sections 4.2 and 4.3: relax phi^0 directly with dt = h until ||dphi|| <= tol.
+RunParams direct_relaxation(const char* surface, int n, double epsilon, double tol,
+                            int max_steps) {
+  RunParams p;
+  p.surface = surface;
+  p.grid = n;
+  p.epsilon = epsilon;
+  p.dt_factor = 1.0;
+  p.stop = StopRule::kPhi;
+  p.tol = tol;
+  p.max_steps = max_steps;
+  return p;
+}
+
 double sphericity(const Measures& m) {
   return std::cbrt(M_PI) * std::pow(6.0 * m.volume_fraction, 2.0 / 3.0) / m.area;
 }
@@ -146,14 +160,7 @@ double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
 
 CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
                                          const ProgressFn& progress) {
-  RunParams p;
-  p.surface = "cube";
-  p.grid = n;
-  p.epsilon = 0.015 * 64.0 / n;
-  p.dt_factor = 1.0;
-  p.stop = StopRule::kPhi;
-  p.tol = tol;
-  p.max_steps = max_steps;
+  const RunParams p = direct_relaxation("cube", n, 0.015 * 64.0 / n, tol, max_steps);
   InitialFieldParams init;
   init.surface = "cube";
   Field cube = make_initial_field(init, n, 2);
@@ -169,15 +176,8 @@ CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
 }
 
 SphereConvergenceRow verify_sphere(int n, double tol, int max_steps, const ProgressFn& progress) {
-  RunParams p;
-  p.surface = "sphere";
+  RunParams p = direct_relaxation("sphere", n, 0.0073 * 64.0 / n, tol, max_steps);
   p.radius = 0.25;
-  p.grid = n;
-  p.epsilon = 0.0073 * 64.0 / n;
-  p.dt_factor = 1.0;
-  p.stop = StopRule::kPhi;
-  p.tol = tol;
-  p.max_steps = max_steps;
   const RunResult r = run_cmc(p, progress);
   SphereConvergenceRow row;
   row.n = n;

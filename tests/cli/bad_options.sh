@@ -1,21 +1,7 @@
 #!/usr/bin/env bash
 # Bad input: exit code 2, a message naming the option, and nothing written.
-set -u
-bin="$1"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
-expect_usage() {  # expect_usage <option named in message> <args...>
-  local opt="$1"; shift
-  local out="$work/out"
-  "$bin" "$@" --out "$out" >"$work/stdout" 2>"$work/stderr"
-  local rc=$?
-  if [ "$rc" -ne 2 ]; then echo "FAIL: '$*' exited $rc, want 2"; fail=1; fi
-  if ! grep -q -- "$opt" "$work/stderr"; then
-    echo "FAIL: '$*' message does not name $opt:"; cat "$work/stderr"; fail=1
-  fi
-  if [ -e "$out" ]; then echo "FAIL: '$*' wrote $out"; fail=1; rm -rf "$out"; fi
-}
+source "$(dirname "$0")/usage.bash" "$1"
+expect_usage() { check_usage out "$@"; }  # <option> <args...>
 expect_usage --grid        run --grid 50
 expect_usage --grid        run --grid 4
 expect_usage --grid        run --grid abc

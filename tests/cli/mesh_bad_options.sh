@@ -1,25 +1,11 @@
 #!/usr/bin/env bash
 # cmcsurf mesh / graded / run --mesh on bad input: exit 2, a message naming the option, and
 # nothing written.
-set -u
-bin="$1"
+source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
 "$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" || { echo "FAIL: run"; exit 1; }
 before=$(ls "$work/run" | sort)
-expect_usage() {  # expect_usage <option named in message> <args...>
-  local opt="$1"; shift
-  local out="$work/out.stl"
-  "$bin" "$@" --out "$out" >"$work/stdout" 2>"$work/stderr"
-  local rc=$?
-  if [ "$rc" -ne 2 ]; then echo "FAIL: '$*' exited $rc, want 2"; cat "$work/stderr"; fail=1; fi
-  if ! grep -q -- "$opt" "$work/stderr"; then
-    echo "FAIL: '$*' message does not name $opt:"; cat "$work/stderr"; fail=1
-  fi
-  if ls "$work" | grep -q '^out'; then echo "FAIL: '$*' wrote output"; fail=1; rm -f "$work"/out*; fi
-}
+expect_usage() { check_usage out.stl "$@"; }  # <option> <args...>
 r="$work/run"
 expect_usage --from      mesh --from "$work/missing"
 expect_usage --tile      mesh --from "$r" --tile 0x1x1

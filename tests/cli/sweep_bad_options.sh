@@ -1,21 +1,7 @@
 #!/usr/bin/env bash
 # Bad sweep input: exit code 2, a message naming the option, and nothing written.
-set -u
-bin="$1"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
-expect_usage() {  # expect_usage <option named in message> <args...>
-  local opt="$1"; shift
-  local out="$work/out"
-  "$bin" sweep "$@" --grid 16 --out "$out" >"$work/stdout" 2>"$work/stderr"
-  local rc=$?
-  if [ "$rc" -ne 2 ]; then echo "FAIL: '$*' exited $rc, want 2"; fail=1; fi
-  if ! grep -q -- "$opt" "$work/stderr"; then
-    echo "FAIL: '$*' message does not name $opt:"; cat "$work/stderr"; fail=1
-  fi
-  if [ -e "$out" ]; then echo "FAIL: '$*' wrote $out"; fail=1; rm -rf "$out"; fi
-}
+source "$(dirname "$0")/usage.bash" "$1"
+expect_usage() { local opt="$1"; shift; check_usage out "$opt" sweep "$@" --grid 16; }
 expect_usage --volume-fractions --volume-fractions 0.75:0.25:0.05
 expect_usage --volume-fractions --volume-fractions 0.25:0.75:0
 expect_usage --volume-fractions --volume-fractions 0.25:0.75:-0.05
