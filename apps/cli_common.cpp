@@ -84,14 +84,26 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
                 "V-cycles stop when the defect norm sqrt(mean (dt d_phi)^2 + mean d_nu^2) "
                 "is below this")
       ->capture_default_str();
-  g->add_option("--mg-rtol", p.solver.rtol,
-                "Also stop V-cycles when the defect is below this times the step's first defect "
-                "(0: off, the paper-faithful default; 1e-3 is a fast setting, see "
-                "docs/performance.md)")
+  app.add_flag("--fast", s.fast,
+               "Fast mode: the options below marked (fast) take their fast values unless given "
+               "(coarse-to-fine continuation, --mg-rtol 1e-2, --extrapolate, --dt-max-factor 8); "
+               "the result agrees with the default paper-faithful run to about 1e-4 in area "
+               "(docs/performance.md)");
+  s.mg_rtol = g->add_option("--mg-rtol", p.solver.rtol,
+                "(fast) Also stop V-cycles when the defect is below this times the step's first "
+                "defect (0: off, the paper-faithful default; --fast uses 1e-2)")
       ->capture_default_str();
-  g->add_option("--coarse-levels", p.coarse_levels,
-                "Coarse-to-fine continuation: run on N/2^K first, then interpolate and finish on "
-                "each finer grid (0: off, the paper's procedure; nodal surfaces only)")
+  s.coarse_levels = g->add_option("--coarse-levels", p.coarse_levels,
+                "(fast) Coarse-to-fine continuation: run on N/2^K first, then interpolate and "
+                "finish on each finer grid (0: off, the paper's procedure; --fast takes K <= 2 "
+                "with N/2^K >= 32; nodal surfaces only)")
+      ->capture_default_str();
+  s.extrapolate = g->add_flag("--extrapolate,!--no-extrapolate", p.solver.extrapolate,
+                "(fast) Start each step's V-cycles from the linear extrapolation of the last two "
+                "steps instead of the last step");
+  s.dt_max_factor = g->add_option("--dt-max-factor", p.dt_max_factor,
+                "(fast) Adaptive time steps: during each relaxation at epsilon, dt doubles after "
+                "every converged step up to this times h (0: fixed dt, the paper's; --fast uses 8)")
       ->capture_default_str();
   g->add_option("--max-vcycles", p.solver.max_vcycles, "Limit on V-cycles per time step")
       ->capture_default_str();
@@ -122,7 +134,22 @@ void require(bool ok, const char* option, T value, const char* accepted) {
 
 }  // namespace
 
+int fast_coarse_levels(int grid) {
+  int k = 0;
+  while (k < 2 && (grid >> (k + 1)) >= 32 && check_coarsenable(grid >> (k + 1)).empty()) ++k;
+  return k;
+}
+
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface) {
+  if (s.fast) {
+    p.fast = true;
+    auto unset = [](const CLI::Option* o) { return o == nullptr || o->count() == 0; };
+    if (unset(s.mg_rtol)) p.solver.rtol = kFastMgRtol;
+    if (unset(s.dt_max_factor)) p.dt_max_factor = kFastDtMaxFactor;
+    if (unset(s.extrapolate)) p.solver.extrapolate = true;
+    if (unset(s.coarse_levels) && check_coarsenable(p.grid).empty())
+      p.coarse_levels = fast_coarse_levels(p.grid);
+  }
   if (s.stop == "area")
     p.stop = StopRule::kArea;
   else if (s.stop == "phi")
@@ -168,6 +195,8 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
     throw UsageError(fmt::format("--coarse-levels: {} halvings of --grid {} give {}, which {}",
                                  p.coarse_levels, p.grid, p.grid >> p.coarse_levels,
                                  check_coarsenable(p.grid >> p.coarse_levels)));
+  require(p.dt_max_factor == 0.0 || (p.dt_max_factor >= p.dt_factor && p.dt_max_factor <= 1000.0),
+          "--dt-max-factor", p.dt_max_factor, "0 (fixed dt) or --dt-factor <= F <= 1000");
   require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");
   require(p.solver.fas.pre_sweeps >= 0 && p.solver.fas.pre_sweeps <= 50, "--pre-sweeps",
           p.solver.fas.pre_sweeps, "0..50");

@@ -27,7 +27,17 @@ struct RunOptionStrings {
   std::string stop = "area";
   std::string smoother = "redblack";
   std::string constrain = "volume";
+  bool fast = false;  // --fast: fills in the options below that were not given
+  CLI::Option* mg_rtol = nullptr;
+  CLI::Option* coarse_levels = nullptr;
+  CLI::Option* dt_max_factor = nullptr;
+  CLI::Option* extrapolate = nullptr;
 };
+// What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
+// V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h.
+constexpr double kFastMgRtol = 1e-2;
+constexpr double kFastDtMaxFactor = 8.0;
+int fast_coarse_levels(int grid);
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
 // Converts the strings and checks every range; throws UsageError.
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);

@@ -17,6 +17,10 @@ struct StepSolverOptions {
   // accuracy relative to what the step does (docs/performance.md).
   double rtol = 0.0;
   int max_vcycles = 100;  // per time step
+  // Start each step from the linear extrapolation phi^n + (dt_n / dt_{n-1}) (phi^n - phi^{n-1})
+  // (and the same for nu) instead of phi^n; rtol stays relative to the defect of phi^n, so a
+  // better guess means fewer V-cycles. Off by default (the paper starts from phi^n).
+  bool extrapolate = false;
   // A defect this many times above the step's first defect, or not finite, is divergence.
   double divergence_factor = 1e6;
 };
@@ -24,7 +28,9 @@ struct StepSolverOptions {
 struct StepStats {
   int vcycles = 0;
   double residual = 0.0;      // defect norm after the last V-cycle
-  double first_residual = 0.0;
+  double first_residual = 0.0;  // defect of phi^n as the guess (the step's change)
+  double start_residual = 0.0;  // defect the V-cycles started from (extrapolated or not)
+  bool extrapolated = false;
   bool converged = false;
 };
 
@@ -40,11 +46,18 @@ class ChStepper {
 
   const ChParams& params() const { return op_.params(); }
   void set_params(const ChParams& params);
+  // Changes dt only: nu and the extrapolation history stay valid (adaptive time steps).
+  void set_dt(double dt);
 
   // Advances phi (halo refreshed on return) by one step dt. nu from the previous step is the
   // initial guess; on the first step or after reset_nu() it is initialised from phi.
   StepStats step(Field& phi);
-  void reset_nu() { nu_valid_ = false; }
+  void reset_nu() {
+    nu_valid_ = false;
+    history_valid_ = false;
+  }
+  // Forget phi^{n-1} (call after phi was changed outside the time loop).
+  void reset_history() { history_valid_ = false; }
   const Field& nu() const { return solver_.solution()[1]; }
   FasSolver& solver() { return solver_; }
 
@@ -53,6 +66,10 @@ class ChStepper {
   StepSolverOptions options_;
   FasSolver solver_;
   bool nu_valid_ = false;
+  // Extrapolation: phi^{n-1}, nu^{n-1} and dt_{n-1} (allocated on first use).
+  Field prev_phi_, prev_nu_;
+  double prev_dt_ = 0.0;
+  bool history_valid_ = false;
 };
 
 }  // namespace cmcsurf

@@ -31,6 +31,9 @@ nlohmann::json params_json(const RunParams& p) {
       {"mg_tol", p.solver.tol},
       {"mg_rtol", p.solver.rtol},
       {"coarse_levels", p.coarse_levels},
+      {"dt_max_factor", p.dt_max_factor},
+      {"extrapolate", p.solver.extrapolate},
+      {"fast", p.fast},
       {"max_vcycles", p.solver.max_vcycles},
       {"pre_sweeps", p.solver.fas.pre_sweeps},
       {"post_sweeps", p.solver.fas.post_sweeps},
@@ -123,11 +126,12 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
 }
 
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
-  std::string out = "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed\n";
+  std::string out = "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt\n";
   for (const StepRecord& r : history)
-    out += fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f}\n",
-                       r.step, r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass,
-                       r.vcycles, r.residual, r.elapsed);
+    out += fmt::format(
+        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f},{:.17g}\n", r.step,
+        r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass, r.vcycles, r.residual,
+        r.elapsed, r.dt);
   write_file_atomic(path, out);
 }
 

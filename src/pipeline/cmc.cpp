@@ -140,22 +140,25 @@ class Evolution {
     t0_ = t0;
   }
 
-  // One step at the stepper's epsilon, recorded in the history.
+  // One step at the stepper's epsilon and dt, recorded in the history.
   StepRecord advance(const char* stage, double area_before) {
     Field& phi = result_.phi;
     const double eps = stepper_.params().epsilon;
+    const double dt = stepper_.params().dt;
     copy_interior(phi, previous_);
     const auto ts = Clock::now();
     const StepStats s = stepper_.step(phi);
     result_.solver_seconds += seconds_since(ts);
     result_.vcycles += s.vcycles;
+    last_step_converged_ = s.converged;
     if (!s.converged) ++result_.unconverged_steps;
     ++step_;
-    time_ += params_.dt();
+    time_ += dt;
     StepRecord r;
     r.step = step_;
     r.stage = stage;
     r.time = time_;
+    r.dt = dt;
     r.area = area(phi, eps);
     r.d_area = r.area - area_before;
     r.d_phi = l2_diff(phi, previous_);
@@ -181,9 +184,14 @@ class Evolution {
     double v = volume_rate > 0.0 ? sharp_volume_fraction(result_.phi) : 0.0;
     result_.stop_reason = "max-steps";
     result_.converged = false;
+    const double dt0 = params_.dt();
+    const double dt_max = std::max(dt0, params_.dt_max_factor * params_.h());
+    double dt = dt0;
     int taken = 0;
     for (int s = 0; s < params_.max_steps; ++s) {
+      stepper_.set_dt(dt);
       const StepRecord r = advance(stage, a);
+      dt = last_step_converged_ ? std::min(dt_max, 2.0 * dt) : std::max(dt0, 0.5 * dt);
       a = r.area;
       ++taken;
       ++result_.steps;
@@ -215,6 +223,7 @@ class Evolution {
   Clock::time_point t0_ = Clock::now();
   int step_ = 0;
   double time_ = 0.0;
+  bool last_step_converged_ = true;
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where

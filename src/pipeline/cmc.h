@@ -47,6 +47,12 @@ struct RunParams {
   // Coarse-to-fine continuation (issue 5, off by default): run the algorithm on N/2^K first,
   // then interpolate and relax on each finer grid. Nodal surfaces only.
   int coarse_levels = 0;
+  // Adaptive time steps (issue 5, off when 0): within each relaxation at epsilon, dt starts at
+  // dt_factor h and doubles after every step whose V-cycles converged, up to dt_max_factor h;
+  // a step that hits --max-vcycles halves it. The convex splitting is stable for any dt and
+  // its fixed points do not depend on dt, so only the path to the equilibrium changes.
+  double dt_max_factor = 0.0;
+  bool fast = false;  // set by `--fast` (which chose the options above); reported only
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -71,6 +77,7 @@ struct StepRecord {
   std::string stage;      // "prerelax" (step 3, at 5 eps), "relax" (step 6) or "volume"
                           // (relaxations after the mass corrections of Constraint::kVolume)
   double time = 0.0;
+  double dt = 0.0;        // of this step
   double area = 0.0;      // at the stage's epsilon
   double d_area = 0.0;    // A^{n+1} - A^n
   double d_phi = 0.0;     // ||phi^{n+1} - phi^n||

@@ -211,3 +211,64 @@ TEST(Pipeline, CoarseToFineMatchesDirectRun) {
 
 }  // namespace
 }  // namespace cmcsurf
+
+namespace cmcsurf {
+namespace {
+
+// Adaptive time steps (issue 5): dt doubles up to dt_max_factor h; the relaxed state is the
+// same fixed point, reached in fewer steps.
+TEST(Pipeline, AdaptiveTimeStepsKeepTheResult) {
+  RunParams p = small_gyroid(0.35);
+  p.grid = 32;
+  p.epsilon = 0.02;
+  p.constrain = Constraint::kMass;
+  const RunResult faithful = run_cmc(p);
+  p.dt_max_factor = 8.0;
+  const RunResult adaptive = run_cmc(p);
+  double dt_max = 0.0;
+  for (const StepRecord& r : adaptive.history) dt_max = std::max(dt_max, r.dt);
+  EXPECT_NEAR(dt_max, 8.0 * p.h(), 1e-15);
+  for (const StepRecord& r : faithful.history) EXPECT_EQ(r.dt, p.dt());
+  EXPECT_NEAR(adaptive.final.area / faithful.final.area, 1.0, 1e-4);
+  EXPECT_NEAR(adaptive.final.mass, faithful.final.mass, 1e-12);
+  EXPECT_LT(adaptive.steps, faithful.steps);
+}
+
+// Extrapolated first guesses change only where the V-cycles start: same result to the V-cycle
+// tolerance, fewer V-cycles.
+TEST(Pipeline, ExtrapolatedGuessKeepsTheResult) {
+  RunParams p = small_gyroid(0.35);
+  p.grid = 32;
+  p.epsilon = 0.02;
+  p.constrain = Constraint::kMass;
+  const RunResult plain = run_cmc(p);
+  p.solver.extrapolate = true;
+  const RunResult extrapolated = run_cmc(p);
+  EXPECT_NEAR(extrapolated.final.area / plain.final.area, 1.0, 1e-6);
+  EXPECT_NEAR(extrapolated.final.mass, plain.final.mass, 1e-12);
+  EXPECT_LT(extrapolated.vcycles, plain.vcycles);
+}
+
+// Everything --fast combines (continuation, relative V-cycle stop, extrapolation, adaptive dt)
+// against the paper-faithful run: issue 5 asks for the area within 0.1 % and the same volume
+// fraction and family member (same mean curvature to 1 %).
+TEST(Pipeline, FastCombinationMatchesPaperFaithfulRun) {
+  RunParams p = small_gyroid(0.35);
+  p.grid = 32;
+  p.epsilon = 0.02;
+  p.constrain = Constraint::kVolume;
+  const RunResult faithful = run_cmc(p);
+  p.coarse_levels = 1;
+  p.solver.rtol = 1e-2;
+  p.solver.extrapolate = true;
+  p.dt_max_factor = 8.0;
+  const RunResult fast = run_cmc(p);
+  EXPECT_NEAR(fast.final.area / faithful.final.area, 1.0, 1e-3);
+  EXPECT_NEAR(fast.final.volume_fraction, 0.35, p.volume_tol);
+  EXPECT_NEAR(fast.final.mean_curvature, faithful.final.mean_curvature,
+              0.01 * std::abs(faithful.final.mean_curvature));
+  EXPECT_LT(fast.vcycles, faithful.vcycles / 2);
+}
+
+}  // namespace
+}  // namespace cmcsurf
