@@ -56,6 +56,16 @@ void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                       const ChParams& p, int colour);
 
+// One whole red-black sweep (colour 0, then colour 1) in a single pass over memory: planes are
+// visited once, colour 1 of plane k-1 right after colour 0 of plane k, with the periodic x/y
+// ghosts of each plane refreshed in between and the z wrap at the end. Each thread takes a slab
+// of planes and finishes its two boundary planes after a barrier. The arithmetic is that of
+// smooth_color(0) then smooth_color(1) with a halo exchange between, so results are identical
+// for any thread count. Needs a current halo on entry, a periodic single-block halo (no MPI
+// neighbours) and even n; leaves the ghosts stale.
+void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
+                            const ChParams& p);
+
 // One lexicographic Gauss-Seidel sweep exactly as printed in (A.3)-(A.4) (serial).
 void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                           const ChParams& p);
