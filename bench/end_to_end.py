@@ -5,8 +5,15 @@ Prints per surface: wall time, steps, V-cycles, V-cycles per step, time per V-cy
 achieved bandwidth of a V-cycle (its minimum traffic / its time), beside a STREAM-like triad
 measured by cmcsurf_bench in the same invocation, so every figure is also a ratio.
 
+Modes: `faithful` is plain `cmcsurf run` (the paper's algorithm), `fast` adds `--fast`; the
+area of a fast run is printed as its relative difference from the faithful run of the same
+surface and grid when both ran. `B/cell` is the peak resident memory per finest grid cell.
+For runs with coarse-to-fine continuation (`--fast` included) the V-cycle bandwidth is left
+out: their V-cycles mix grid sizes.
+
 usage: bench/end_to_end.py [--build build] [--grids 64,128] [--surfaces P,D,G] [--threads 2]
-                           [--epsilon 0.01] [--dt-factor 0.5] [--tol 1e-6] [--extra "..."]
+                           [--modes faithful,fast] [--epsilon 0.01] [--dt-factor 0.5]
+                           [--tol 1e-6] [--extra "..."]
 """
 import argparse
 import json
@@ -41,26 +48,52 @@ def main():
     ap.add_argument("--dt-factor", default="0.5")
     ap.add_argument("--tol", default="1e-6")
     ap.add_argument("--volume-fraction", default="0.5")
+    ap.add_argument("--modes", default="faithful,fast",
+                    help="comma list of faithful, fast and labels given by --variant")
+    ap.add_argument("--variant", action="append", default=[], metavar="LABEL:OPTIONS",
+                    help="a mode LABEL that adds OPTIONS to the faithful run, e.g. "
+                         "'rtol:--mg-rtol 1e-2' (repeatable; LABEL is also added to --modes)")
     ap.add_argument("--extra", default="", help="more cmcsurf run options, quoted")
     a = ap.parse_args()
-    print(f"{'surface':>7} {'N':>5} {'wall s':>8} {'steps':>6} {'V-cyc':>6} {'V/step':>6} "
-          f"{'ms/V':>8} {'GB/s':>6} {'triad':>6} {'ratio':>6}")
+    variants = {"faithful": [], "fast": ["--fast"]}
+    modes = a.modes.split(",")
+    for v in a.variant:
+        label, _, opts = v.partition(":")
+        variants[label] = opts.split()
+        if label not in modes:
+            modes.append(label)
+    print(f"{'surface':>7} {'N':>5} {'mode':>10} {'wall s':>8} {'steps':>6} {'V-cyc':>6} "
+          f"{'V/step':>6} {'ms/V':>8} {'GB/s':>6} {'triad':>6} {'ratio':>6} {'B/cell':>7} "
+          f"{'area':>10} {'vs faithful':>11}")
     for n in [int(x) for x in a.grids.split(",")]:
         # Triad over arrays of the same N^3 size, so cache effects match the run's.
         triad = triad_bandwidth(a.build, n, a.threads)
         for s in a.surfaces.split(","):
-            with tempfile.TemporaryDirectory() as d:
-                cmd = [os.path.join(a.build, "cmcsurf"), "run", "--surface", s, "--grid", str(n),
-                       "--epsilon", a.epsilon, "--dt-factor", a.dt_factor, "--tol", a.tol,
-                       "--volume-fraction", a.volume_fraction, "--threads", str(a.threads),
-                       "--quiet", "--out", d] + a.extra.split()
-                subprocess.run(cmd, check=True)
-                r = json.load(open(os.path.join(d, "report.json")))
-            spv = r["seconds_per_vcycle"]
-            bw = VCYCLE_BYTES_PER_CELL * n ** 3 / spv if spv > 0 else 0.0
-            print(f"{s:>7} {n:>5} {r['wall_seconds']:>8.2f} {r['steps'] + r['prerelax_steps']:>6} "
-                  f"{r['vcycles']:>6} {r['vcycles_per_step']:>6.2f} {1e3 * spv:>8.2f} "
-                  f"{bw / 1e9:>6.2f} {triad / 1e9:>6.2f} {bw / triad:>6.2f}", flush=True)
+            faithful_area = None
+            for mode in modes:
+                with tempfile.TemporaryDirectory() as d:
+                    cmd = [os.path.join(a.build, "cmcsurf"), "run", "--surface", s,
+                           "--grid", str(n), "--epsilon", a.epsilon, "--dt-factor", a.dt_factor,
+                           "--tol", a.tol, "--volume-fraction", a.volume_fraction,
+                           "--threads", str(a.threads), "--quiet", "--out", d]
+                    cmd += variants[mode] + a.extra.split()
+                    subprocess.run(cmd, check=True)
+                    r = json.load(open(os.path.join(d, "report.json")))
+                spv = r["seconds_per_vcycle"]
+                steps = r["steps"] + r["prerelax_steps"] + r["coarse_steps"]
+                if mode == "faithful":
+                    faithful_area = r["area"]
+                if r["coarse_steps"] == 0:  # all V-cycles on N^3: their traffic is known
+                    bw = VCYCLE_BYTES_PER_CELL * n ** 3 / spv if spv > 0 else 0.0
+                    bw_text = f"{bw / 1e9:>6.2f} {triad / 1e9:>6.2f} {bw / triad:>6.2f}"
+                else:
+                    bw_text = f"{'-':>6} {triad / 1e9:>6.2f} {'-':>6}"
+                diff = (f"{r['area'] / faithful_area - 1:>+11.1e}"
+                        if mode != "faithful" and faithful_area else f"{'':>11}")
+                print(f"{s:>7} {n:>5} {mode:>10} {r['wall_seconds']:>8.2f} {steps:>6} "
+                      f"{r['vcycles']:>6} {r['vcycles_per_step']:>6.2f} {1e3 * spv:>8.2f} "
+                      f"{bw_text} {r['peak_memory_bytes_per_cell']:>7.0f} {r['area']:>10.6f} "
+                      f"{diff}", flush=True)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,9 @@
 #include "io/run_report.h"
 
+#include <sys/resource.h>
+
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
@@ -72,6 +76,15 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   const int all_steps = r.steps + r.prerelax_steps + r.coarse_steps;
   j["vcycles_per_step"] = all_steps ? double(r.vcycles) / all_steps : 0.0;
   j["seconds_per_vcycle"] = r.vcycles ? r.solver_seconds / double(r.vcycles) : 0.0;
+  double dt_max = 0.0;
+  for (const StepRecord& s : r.history) dt_max = std::max(dt_max, s.dt);
+  j["dt_max"] = dt_max;  // differs from dt with --dt-max-factor (adaptive steps)
+  // Peak resident memory of the process so far (Linux reports kilobytes), and per finest cell.
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double peak = 1024.0 * double(usage.ru_maxrss);
+  j["peak_memory_bytes"] = peak;
+  j["peak_memory_bytes_per_cell"] = peak / (double(p.grid) * p.grid * p.grid);
   j["unconverged_steps"] = r.unconverged_steps;
   j["converged"] = r.converged;
   j["stop_reason"] = r.stop_reason;
