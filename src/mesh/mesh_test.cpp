@@ -246,7 +246,9 @@ TEST(MeshGraded, RampIsClosedAndFollowsTarget) {
   ASSERT_EQ(cells.size(), 4u);
   for (std::size_t c = 0; c < cells.size(); ++c) {
     EXPECT_NEAR(cells[c]["achieved"].get<double>(), cells[c]["target"].get<double>(), 0.02);
-    if (c > 0) EXPECT_GT(cells[c]["achieved"].get<double>(), cells[c - 1]["achieved"].get<double>());
+    if (c > 0) {
+      EXPECT_GT(cells[c]["achieved"].get<double>(), cells[c - 1]["achieved"].get<double>());
+    }
   }
   ramp.to_fraction = 0.99;
   EXPECT_THROW(graded_sampler(members, ramp, tiles), std::invalid_argument);

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +48,9 @@ struct RunParams {
   // Coarse-to-fine continuation (issue 5, off by default): run the algorithm on N/2^K first,
   // then interpolate and relax on each finer grid. Nodal surfaces only.
   int coarse_levels = 0;
+  // The processes sharing the grid (null: this process holds it whole). Not a parameter of
+  // the result: a run gives the same surface on any number of processes (docs/scaling.md).
+  std::shared_ptr<const Decomposition> decomposition;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -96,7 +100,7 @@ struct VolumeIterate {
 };
 
 struct RunResult {
-  Field phi;  // final field (ghost 2)
+  Field phi;  // final field (ghost 2; this process's block under a decomposition)
   std::vector<StepRecord> history;
   int steps = 0;            // relaxation steps at epsilon (step 6 and the "volume" stage)
   int volume_steps = 0;     // of which after mass corrections (stage "volume")
