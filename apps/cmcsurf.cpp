@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   }
   int code = run_main(argc, argv);
   // Every process ends with the worst exit code (rank 0 alone may have failed to write).
-  code = int(world->max(double(code)));
+  code = world->max_exit_code(code);
   std::fflush(stdout);
   return code;
 }

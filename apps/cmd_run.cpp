@@ -97,9 +97,17 @@ CommandFn add_run_command(CLI::App& root) {
               r.phi = std::move(whole);
               p.decomposition = nullptr;
             }
-            const nlohmann::json ranks = {
+            nlohmann::json ranks = {
                 {"mpi_ranks", world->ranks()},
                 {"process_grid", {world->dims()[0], world->dims()[1], world->dims()[2]}}};
+            if (world->distributed()) {
+              const CommStats& c = world->stats();  // rank 0's share (docs/scaling.md)
+              ranks["mpi_rank0"] = {{"halo_bytes_sent", c.halo_bytes},
+                                    {"halo_messages", c.halo_messages},
+                                    {"gather_bytes_sent", c.gather_bytes},
+                                    {"collectives", c.collectives},
+                                    {"comm_seconds", c.seconds}};
+            }
             const nlohmann::json report =
                 write_run_folder(dir, p, r, threads, cmd->float32, ranks, [&] {
                   if (!cmd->mesh_format.empty())

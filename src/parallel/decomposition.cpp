@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #ifdef CMCSURF_HAVE_MPI
@@ -13,6 +15,23 @@
 #endif
 
 namespace cmcsurf {
+
+namespace {
+
+// Adds the wall time of its scope to `seconds`.
+class CommTimer {
+ public:
+  explicit CommTimer(double& seconds) : seconds_(seconds) {}
+  ~CommTimer() {
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
 
 #ifdef CMCSURF_HAVE_MPI
 struct Decomposition::Comm {
@@ -130,10 +149,29 @@ double Decomposition::max(double local) const {
   return *std::max_element(all.begin(), all.end());
 }
 
+int Decomposition::max_exit_code(int code) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    int worst = code;
+    MPI_Request request;
+    MPI_Iallreduce(&code, &worst, 1, MPI_INT, MPI_MAX, comm_->cart, &request);
+    for (int done = 0;;) {
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      if (done) return worst;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+#endif
+  return code;
+}
+
 void Decomposition::exchange(int axis, const double* send_lo, const double* send_hi,
                              double* recv_lo, double* recv_hi, std::size_t count) const {
 #ifdef CMCSURF_HAVE_MPI
   if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.halo_bytes += 2.0 * sizeof(double) * count;
+    stats_.halo_messages += 2;
     const int lo = neighbours_[axis][0], hi = neighbours_[axis][1];
     const int c = int(count);
     MPI_Request req[4];
@@ -156,6 +194,9 @@ void Decomposition::exchange(int axis, const double* send_lo, const double* send
 void Decomposition::allgather(const double* send, std::size_t count, double* recv) const {
 #ifdef CMCSURF_HAVE_MPI
   if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * count;
+    ++stats_.collectives;
     MPI_Allgather(send, int(count), MPI_DOUBLE, recv, int(count), MPI_DOUBLE, comm_->cart);
     return;
   }
@@ -166,6 +207,9 @@ void Decomposition::allgather(const double* send, std::size_t count, double* rec
 void Decomposition::gather(const double* send, std::size_t count, double* recv) const {
 #ifdef CMCSURF_HAVE_MPI
   if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * count;
+    ++stats_.collectives;
     MPI_Gather(send, int(count), MPI_DOUBLE, recv, int(count), MPI_DOUBLE, 0, comm_->cart);
     return;
   }

@@ -22,6 +22,16 @@ struct Block {
 // levels are gathered onto every process (docs/scaling.md).
 constexpr int kMinBlockCells = 4;
 
+// What this process has sent, and the time it spent in communication calls (wall clock,
+// waiting for neighbours included).
+struct CommStats {
+  double halo_bytes = 0.0;  // face exchanges (sent)
+  long halo_messages = 0;
+  double gather_bytes = 0.0;  // allgathers, gathers and reductions (sent)
+  long collectives = 0;
+  double seconds = 0.0;
+};
+
 class Decomposition {
  public:
   // Every process of the run (MPI_COMM_WORLD) on a periodic process grid from MPI_Dims_create;
@@ -50,6 +60,9 @@ class Decomposition {
   double sum(double local) const;
   void sum(double* values, int count) const;
   double max(double local) const;
+  // The largest exit code over the processes. Waits by polling with short sleeps, so that
+  // processes done early do not spin while rank 0 writes the output.
+  int max_exit_code(int code) const;
   // Sends send_lo to the low neighbour along axis and send_hi to the high one, and receives
   // recv_lo from the low and recv_hi from the high neighbour (count doubles each; non-blocking
   // sends and receives, then a wait).
@@ -60,6 +73,8 @@ class Decomposition {
   void allgather(const double* send, std::size_t count, double* recv) const;
   void gather(const double* send, std::size_t count, double* recv) const;
   void broadcast(double* values, int count) const;  // from rank 0
+  const CommStats& stats() const { return stats_; }
+
   // Ends every process of the run (for an error that only some processes saw).
   [[noreturn]] void abort_all(int code) const;
 
@@ -71,6 +86,7 @@ class Decomposition {
   std::array<int, 3> dims_{1, 1, 1};
   std::array<int, 3> coords_{0, 0, 0};
   std::array<std::array<int, 2>, 3> neighbours_{};
+  mutable CommStats stats_;
 };
 
 // MPI_Init / MPI_Finalize around main (nothing without MPI).
