@@ -30,6 +30,6 @@ mpi_build="${CMCSURF_MPI_BUILD_DIR:-build-mpi}"
 if [ "$mpi_build" != none ]; then
   cmake -S . -B "$mpi_build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_MPI=ON \
         -DCMCSURF_BUILD_BENCH=OFF >/dev/null
-  cmake --build "$mpi_build" -j "$(nproc)"
+  cmake --build "$mpi_build" -j "$(nproc)" --target cmcsurf cmcsurf_mpi_tests
   echo "setup: built $mpi_build/cmcsurf (MPI: mpirun -np P $mpi_build/cmcsurf run ...)"
 fi
