@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "multigrid/transfer.h"
 
 namespace cmcsurf {
@@ -48,13 +50,16 @@ FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options
                      std::shared_ptr<const Decomposition> decomposition)
     : options_(options) {
   const bool parallel = decomposition && decomposition->distributed();
+  if (parallel && !decomposition->splits(n))
+    throw std::invalid_argument("FasSolver: " + decomposition->check_grid(n));
   const std::vector<int> sizes = coarsening_sizes(n);
   bool distributed = parallel;
   for (int size : sizes) {
     // HPGMG-style agglomeration: stay split while the blocks are large enough; the coarsest
     // level (odd or 2 cells) is always gathered.
     const bool was_distributed = distributed;
-    if (distributed && size != n && (size == sizes.back() || !decomposition->splits(size))) distributed = false;
+    if (distributed && size != n && (size == sizes.back() || !decomposition->splits(size)))
+      distributed = false;
     const auto d = distributed ? decomposition : nullptr;
     FasLevel level;
     for (int c = 0; c < components; ++c) {

@@ -46,14 +46,6 @@ struct Decomposition::Comm {
 struct Decomposition::Comm {};
 #endif
 
-bool mpi_enabled() {
-#ifdef CMCSURF_HAVE_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 std::shared_ptr<const Decomposition> Decomposition::self() {
   static const auto single = std::make_shared<const Decomposition>();
   return single;

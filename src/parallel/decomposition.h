@@ -98,7 +98,4 @@ class ParallelSession {
   ParallelSession& operator=(const ParallelSession&) = delete;
 };
 
-// Whether this build can run on several processes.
-bool mpi_enabled();
-
 }  // namespace cmcsurf
