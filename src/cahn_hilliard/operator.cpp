@@ -165,14 +165,12 @@ void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Fie
 }
 
 void ChOperator::apply(Fields& u, Fields& out) const {
-  u[0].exchange_halo();
-  u[1].exchange_halo();
+  exchange_halos(u[0], u[1]);
   nso_residual(u[0], u[1], nullptr, nullptr, p_, out[0], out[1]);
 }
 
 void ChOperator::residual(Fields& u, const Fields& rhs, Fields& out) const {
-  u[0].exchange_halo();
-  u[1].exchange_halo();
+  exchange_halos(u[0], u[1]);
   nso_residual(u[0], u[1], &rhs[0], &rhs[1], p_, out[0], out[1]);
 }
 
@@ -186,13 +184,11 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
   for (int s = 0; s < sweeps; ++s) {
     if (red_black) {
       for (int colour = 0; colour < 2; ++colour) {
-        u[0].exchange_halo();
-        u[1].exchange_halo();
+        exchange_halos(u[0], u[1]);
         smooth_color(u[0], u[1], rhs[0], rhs[1], p_, colour);
       }
     } else {
-      u[0].exchange_halo();
-      u[1].exchange_halo();
+      exchange_halos(u[0], u[1]);
       smooth_lexicographic(u[0], u[1], rhs[0], rhs[1], p_);
     }
   }

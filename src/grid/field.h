@@ -119,6 +119,12 @@ void for_each_cell(const Field& field, F&& f) {
       for (int i = 0; i < field.nx(); ++i) f(i, j, k);
 }
 
+// Halo exchange of two fields of the same geometry (phi and nu) in one pass of messages.
+inline void exchange_halos(Field& a, Field& b) {
+  Field* const fields[2] = {&a, &b};
+  apply_halo(a.halo_plan(), fields, 2);
+}
+
 // Copies the interior of src into dst (same block, any ghost widths).
 void copy_interior(const Field& src, Field& dst);
 

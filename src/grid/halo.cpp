@@ -74,7 +74,12 @@ void local_copy(const HaloSlab& s, const int lo[3], const int hi[3], Field& f) {
 
 }  // namespace
 
-void apply_halo(const HaloPlan& plan, Field& f) {
+void apply_halo(const HaloPlan& plan, Field& field) {
+  Field* const fields[1] = {&field};
+  apply_halo(plan, fields, 1);
+}
+
+void apply_halo(const HaloPlan& plan, Field* const* fields, int nf) {
   const int g = plan.ghost;
   for (std::size_t s = 0; s < plan.slabs.size(); s += 2) {
     const HaloSlab& up = plan.slabs[s];        // low ghosts <- top interior
@@ -83,38 +88,52 @@ void apply_halo(const HaloPlan& plan, Field& f) {
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) slab_range(axis, a, plan.size, g, &lo[a], &hi[a]);
     if (!plan.decomposition || plan.decomposition->dims()[axis] == 1) {
-      local_copy(up, lo, hi, f);
-      local_copy(down, lo, hi, f);
+      for (int f = 0; f < nf; ++f) {
+        local_copy(up, lo, hi, *fields[f]);
+        local_copy(down, lo, hi, *fields[f]);
+      }
       continue;
     }
-    // Pack both faces, exchange with the neighbours, unpack into the ghosts.
-    std::size_t count = up.width;
+    // Pack both faces of every field, exchange with the neighbours, unpack into the ghosts.
+    std::size_t face = up.width;
     for (int a = 0; a < 3; ++a)
-      if (a != axis) count *= std::size_t(hi[a] - lo[a]);
+      if (a != axis) face *= std::size_t(hi[a] - lo[a]);
+    const std::size_t count = face * nf;
     std::vector<double>& buf = plan.buffer;
     buf.resize(4 * count);
     double* send_lo = buf.data();
     double* send_hi = send_lo + count;
     double* recv_lo = send_hi + count;
     double* recv_hi = recv_lo + count;
-    double* d = f.data();
-    auto pack = [&](const HaloSlab& slab, int start, double* out) {
-      for_each_run(f, slab, start, lo, hi, [&](std::ptrdiff_t at, int len) {
-        std::memcpy(out, d + at, sizeof(double) * len);
-        out += len;
+    for (int f = 0; f < nf; ++f) {
+      const Field& field = *fields[f];
+      assert(field.size() == plan.size && field.ghost() == g);
+      const double* d = field.data();
+      double* out_hi = send_hi + f * face;
+      double* out_lo = send_lo + f * face;
+      for_each_run(field, up, up.src_start, lo, hi, [&](std::ptrdiff_t at, int len) {
+        std::memcpy(out_hi, d + at, sizeof(double) * len);
+        out_hi += len;
       });
-    };
-    auto unpack = [&](const HaloSlab& slab, int start, const double* in) {
-      for_each_run(f, slab, start, lo, hi, [&](std::ptrdiff_t at, int len) {
-        std::memcpy(d + at, in, sizeof(double) * len);
-        in += len;
+      for_each_run(field, down, down.src_start, lo, hi, [&](std::ptrdiff_t at, int len) {
+        std::memcpy(out_lo, d + at, sizeof(double) * len);
+        out_lo += len;
       });
-    };
-    pack(up, up.src_start, send_hi);
-    pack(down, down.src_start, send_lo);
+    }
     plan.decomposition->exchange(axis, send_lo, send_hi, recv_lo, recv_hi, count);
-    unpack(up, up.dst_start, recv_lo);
-    unpack(down, down.dst_start, recv_hi);
+    for (int f = 0; f < nf; ++f) {
+      double* d = fields[f]->data();
+      const double* in_lo = recv_lo + f * face;
+      const double* in_hi = recv_hi + f * face;
+      for_each_run(*fields[f], up, up.dst_start, lo, hi, [&](std::ptrdiff_t at, int len) {
+        std::memcpy(d + at, in_lo, sizeof(double) * len);
+        in_lo += len;
+      });
+      for_each_run(*fields[f], down, down.dst_start, lo, hi, [&](std::ptrdiff_t at, int len) {
+        std::memcpy(d + at, in_hi, sizeof(double) * len);
+        in_hi += len;
+      });
+    }
   }
 }
 

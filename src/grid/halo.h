@@ -40,5 +40,8 @@ std::shared_ptr<const HaloPlan> make_halo_plan(const std::array<int, 3>& size, i
                                                std::shared_ptr<const Decomposition> d);
 
 void apply_halo(const HaloPlan& plan, Field& field);
+// The same for several fields of one geometry at once: along a split axis one message per
+// neighbour carries the faces of all of them.
+void apply_halo(const HaloPlan& plan, Field* const* fields, int count);
 
 }  // namespace cmcsurf

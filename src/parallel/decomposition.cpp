@@ -56,9 +56,12 @@ std::shared_ptr<const Decomposition> Decomposition::world() {
   int initialized = 0;
   MPI_Initialized(&initialized);
   if (!initialized) return self();
+  // Built once (MPI_Cart_create is collective): every later call returns the same object.
+  static std::shared_ptr<const Decomposition> cached;
+  if (cached) return cached;
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  if (ranks == 1) return self();
+  if (ranks == 1) return cached = self();
   auto d = std::make_shared<Decomposition>();
   int cart_dims[3] = {0, 0, 0};  // MPI order: z (largest), y, x
   MPI_Dims_create(ranks, 3, cart_dims);
@@ -74,7 +77,7 @@ std::shared_ptr<const Decomposition> Decomposition::world() {
     MPI_Cart_shift(d->comm_->cart, 2 - a, 1, &lo, &hi);
     d->neighbours_[a] = {lo, hi};
   }
-  return d;
+  return cached = d;
 #else
   return self();
 #endif

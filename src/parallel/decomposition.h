@@ -35,7 +35,8 @@ struct CommStats {
 class Decomposition {
  public:
   // Every process of the run (MPI_COMM_WORLD) on a periodic process grid from MPI_Dims_create;
-  // z is split first (the largest factor), then y, then x. One process without MPI.
+  // z is split first (the largest factor), then y, then x. One process without MPI. The first
+  // call after MPI_Init is collective; later calls return the same object.
   static std::shared_ptr<const Decomposition> world();
   // A single process owning the whole grid (for serial fields and tests).
   static std::shared_ptr<const Decomposition> self();

@@ -61,6 +61,17 @@ TEST(Decomposition, HaloExchangeEqualsTheSerialWrap) {
     }
 }
 
+TEST(Decomposition, PairedHaloExchangeEqualsTheSerialWrap) {
+  const Field phi = testing::random_field(16, 1, -1, 1, 31);
+  const Field nu = testing::random_field(16, 1, -1, 1, 32);
+  Field a(16, 1, world()), b(16, 1, world());
+  take_block(phi, a);
+  take_block(nu, b);
+  exchange_halos(a, b);  // one message per neighbour carries both fields
+  EXPECT_EQ(max_block_diff(a, phi, true), 0.0);
+  EXPECT_EQ(max_block_diff(b, nu, true), 0.0);
+}
+
 TEST(Decomposition, GatherRestoresTheWholeField) {
   const Field whole = testing::random_field(16, 2, -1, 1, 3);
   const Field block = block_of(whole);
