@@ -2,14 +2,20 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <iostream>
 #include <vector>
 
 #include "cahn_hilliard/time_step.h"
 #include "cli_common.h"
 #include "commands.h"
+#include "parallel/decomposition.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// Runs the command line; under mpirun every process parses the same arguments and validates
+// them identically, so bad input ends every process with the same exit code.
+int run_main(int argc, char** argv) {
   using namespace cmcsurf::cli;
   CLI::App app{
       "cmcsurf: triply periodic constant-mean-curvature surfaces (Schwarz P, D, Schoen G and "
@@ -33,9 +39,15 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitUsage;
   }
+  const auto world = cmcsurf::Decomposition::world();
   for (auto& [sub, fn] : commands) {
     if (!sub->parsed()) continue;
     try {
+      if (world->distributed() && sub->get_name() != "run")
+        throw UsageError(fmt::format(
+            "`cmcsurf {}` runs on one process; only `cmcsurf run` is decomposed over MPI ranks "
+            "(started with {} ranks): run it without mpirun",
+            sub->get_name(), world->ranks()));
       return fn();
     } catch (const UsageError& e) {
       std::cerr << "error: " << e.what() << "\n";
@@ -46,8 +58,27 @@ int main(int argc, char** argv) {
       return kExitFailure;
     } catch (const std::exception& e) {
       std::cerr << "error: " << e.what() << "\n";
+      // Other processes may wait in a collective for this one: end them all.
+      if (world->distributed()) world->abort_all(kExitFailure);
       return kExitFailure;
     }
   }
   return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cmcsurf::ParallelSession session(&argc, &argv);
+  const auto world = cmcsurf::Decomposition::world();
+  // Only rank 0 talks and writes.
+  if (world->rank() != 0) {
+    if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
+      world->abort_all(cmcsurf::cli::kExitFailure);
+  }
+  int code = run_main(argc, argv);
+  // Every process ends with the worst exit code (rank 0 alone may have failed to write).
+  code = world->max_exit_code(code);
+  std::fflush(stdout);
+  return code;
 }

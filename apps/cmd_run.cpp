@@ -11,6 +11,8 @@
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "mesh_options.h"
+#include "multigrid/fas.h"
+#include "parallel/decomposition.h"
 #include "pipeline/sweep.h"
 
 namespace cmcsurf::cli {
@@ -55,19 +57,59 @@ CommandFn add_run_command(CLI::App& root) {
                 throw UsageError(fmt::format("--mesh: {}", e.what()));
               }
             }
+            const auto world = Decomposition::world();
+            if (world->distributed()) {
+              // Checked on every process alike, before any communication.
+              if (p.smoother != SweepOrder::kRedBlack)
+                throw UsageError(fmt::format(
+                    "--smoother lex: a lexicographic Gauss-Seidel sweep depends on how the grid "
+                    "is split, so it is refused under mpirun ({} ranks); use --smoother "
+                    "redblack, whose result does not depend on the decomposition",
+                    world->ranks()));
+              if (const std::string why = world->check_grid(p.grid); !why.empty())
+                throw UsageError("--grid: " + why);
+              for (int k = 1; k <= p.coarse_levels && check_coarsenable(p.grid >> k).empty(); ++k)
+                if (const std::string why = world->check_grid(p.grid >> k); !why.empty())
+                  throw UsageError(fmt::format("--coarse-levels {}: the grid of level {}: {}",
+                                               p.coarse_levels, k, why));
+              p.decomposition = world;
+            }
             const int threads = apply_threads(cmd->threads);
 
             Progress progress(cmd->quiet);
             if (!cmd->quiet)
               std::cerr << fmt::format(
-                  "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}\n",
+                  "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}{}\n",
                   version_string(), p.surface, p.volume_fraction, p.grid, p.epsilon, p.dt(),
-                  threads);
+                  threads,
+                  world->distributed()
+                      ? fmt::format(" x {} ranks ({} x {} x {})", world->ranks(),
+                                    world->dims()[0], world->dims()[1], world->dims()[2])
+                      : std::string());
             RunResult r = run_cmc(p, [&](const StepRecord& s) { progress.step(s); });
             progress.finish();
 
+            // Rank 0 gathers the field and writes everything, as a serial run would.
+            if (world->distributed()) {
+              Field whole(p.grid, 2);
+              gather_field(r.phi, whole, false);
+              if (world->rank() != 0) return 0;
+              r.phi = std::move(whole);
+              p.decomposition = nullptr;
+            }
+            nlohmann::json ranks = {
+                {"mpi_ranks", world->ranks()},
+                {"process_grid", {world->dims()[0], world->dims()[1], world->dims()[2]}}};
+            if (world->distributed()) {
+              const CommStats& c = world->stats();  // rank 0's share (docs/scaling.md)
+              ranks["mpi_rank0"] = {{"halo_bytes_sent", c.halo_bytes},
+                                    {"halo_messages", c.halo_messages},
+                                    {"gather_bytes_sent", c.gather_bytes},
+                                    {"collectives", c.collectives},
+                                    {"comm_seconds", c.seconds}};
+            }
             const nlohmann::json report =
-                write_run_folder(dir, p, r, threads, cmd->float32, {}, [&] {
+                write_run_folder(dir, p, r, threads, cmd->float32, ranks, [&] {
                   if (!cmd->mesh_format.empty())
                     write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
                 }).report;

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages cmcsurf needs and builds it in ./build (Release).
-# Usage: scripts/setup.sh [--no-install]    (CMCSURF_BUILD_DIR overrides ./build)
+# Installs the Debian 12 packages cmcsurf needs and builds it in ./build (Release), and the
+# MPI build (-DCMCSURF_MPI=ON, OpenMPI) in ./build-mpi.
+# Usage: scripts/setup.sh [--no-install]    (CMCSURF_BUILD_DIR overrides ./build,
+#        CMCSURF_MPI_BUILD_DIR ./build-mpi; CMCSURF_MPI_BUILD_DIR=none skips the MPI build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
           libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
-          admesh)
+          admesh libopenmpi-dev openmpi-bin)
 if [ "${1:-}" != "--no-install" ]; then
   missing=()
   for p in "${packages[@]}"; do
@@ -24,3 +26,10 @@ build="${CMCSURF_BUILD_DIR:-build}"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j "$(nproc)"
 echo "setup: built $build/cmcsurf"
+mpi_build="${CMCSURF_MPI_BUILD_DIR:-build-mpi}"
+if [ "$mpi_build" != none ]; then
+  cmake -S . -B "$mpi_build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_MPI=ON \
+        -DCMCSURF_BUILD_BENCH=OFF >/dev/null
+  cmake --build "$mpi_build" -j "$(nproc)" --target cmcsurf cmcsurf_mpi_tests
+  echo "setup: built $mpi_build/cmcsurf (MPI: mpirun -np P $mpi_build/cmcsurf run ...)"
+fi

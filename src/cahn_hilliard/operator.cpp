@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 
 #include "grid/stencil.h"
 
@@ -32,16 +33,16 @@ struct PointSolve {
 }  // namespace
 
 void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
-  const int n = phi_n.n();
+  const int n = phi_n.n(), nx = phi_n.nx(), ny = phi_n.ny(), nz = phi_n.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / dt;
   const std::ptrdiff_t sy = phi_n.stride_y(), sz = phi_n.stride_z();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* p = &phi_n(0, j, k);
       double* s = &src_phi(0, j, k);
       double* t = &src_nu(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         s[i] = p[i] * inv_dt - 0.25 * laplacian(p + i, sy, sz, inv_h2);
         t[i] = 0.0;
       }
@@ -50,20 +51,20 @@ void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
 
 void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const Field* rhs_nu,
                   const ChParams& p, Field& out_phi, Field& out_nu) {
-  const int n = phi.n();
+  const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double sign = rhs_phi ? -1.0 : 1.0;
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* ph = &phi(0, j, k);
       const double* nv = &nu(0, j, k);
       double* o1 = &out_phi(0, j, k);
       double* o2 = &out_nu(0, j, k);
       const double* r1 = rhs_phi ? &(*rhs_phi)(0, j, k) : nullptr;
       const double* r2 = rhs_nu ? &(*rhs_nu)(0, j, k) : nullptr;
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         const double a1 = ph[i] * inv_dt - laplacian(nv + i, sy, sz, inv_h2);
         const double a2 = -ch_f(ph[i]) + eps2 * laplacian(ph + i, sy, sz, inv_h2) + nv[i];
         o1[i] = (r1 ? r1[i] : 0.0) + sign * a1;
@@ -74,16 +75,13 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
 
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
                       const Field* rhs_nu, const ChParams& p, Field& out_phi, Field& out_nu) {
-  const int n = phi.n();
-  const double h = 1.0 / n, eps = p.epsilon, dt = p.dt;
+  const double h = 1.0 / phi.n(), eps = p.epsilon, dt = p.dt;
   auto lap = [&](const Field& f, int i, int j, int k) {
     return (f(i + 1, j, k) + f(i - 1, j, k) + f(i, j + 1, k) + f(i, j - 1, k) + f(i, j, k + 1) +
             f(i, j, k - 1) - 6.0 * f(i, j, k)) /
            (h * h);
   };
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
+  for_each_cell(phi, [&](int i, int j, int k) {
         const double x = phi(i, j, k);
         const double a1 = x / dt - lap(nu, i, j, k);
         const double a2 = -(x * x * x - 1.5 * x * x + 0.75 * x) + eps * eps * lap(phi, i, j, k) +
@@ -95,7 +93,7 @@ void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
           out_phi(i, j, k) = a1;
           out_nu(i, j, k) = a2;
         }
-      }
+      });
 }
 
 namespace {
@@ -103,7 +101,7 @@ namespace {
 // Relaxes the cells i = first, first + step, ... of row (j, k) by (A.3)-(A.4).
 inline void relax_row(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                       const PointSolve& solve, int j, int k, int first, int step) {
-  const int n = phi.n();
+  const int n = phi.nx();  // this block's row length
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   double* ph = &phi(0, j, k);
   double* nv = &nu(0, j, k);
@@ -148,12 +146,13 @@ inline void relax_row(Field& phi, Field& nu, const Field& src_phi, const Field& 
 
 void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                   const ChParams& p, int colour) {
-  const int n = phi.n();
+  const int n = phi.n(), ny = phi.ny(), nz = phi.nz();
+  const int parity = colour + phi.offset_parity();  // colour of global i + j + k
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      relax_row(phi, nu, src_phi, src_nu, solve, j, k, (j + k + colour) & 1, 2);
+#pragma omp parallel for schedule(static) if (phi.nx() >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      relax_row(phi, nu, src_phi, src_nu, solve, j, k, (j + k + parity) & 1, 2);
 }
 
 namespace {
@@ -188,6 +187,7 @@ void wrap_planes_z(Field& f) {
 
 void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                             const ChParams& p) {
+  if (!phi.whole()) throw std::logic_error("smooth_red_black_fused on a block of a split grid");
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
   auto relax_plane = [&](int k, int colour) {
@@ -248,30 +248,28 @@ void relax_cell_ref(Field& phi, Field& nu, const Field& src_phi, const Field& sr
 
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                       const ChParams& p, int colour) {
-  const int n = phi.n();
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        if ((i + j + k) % 2 == colour) relax_cell_ref(phi, nu, src_phi, src_nu, p, i, j, k);
+  const auto& o = phi.offset();
+  for_each_cell(phi, [&](int i, int j, int k) {
+    if ((o[0] + i + o[1] + j + o[2] + k) % 2 == colour)
+      relax_cell_ref(phi, nu, src_phi, src_nu, p, i, j, k);
+  });
 }
 
 void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                           const ChParams& p) {
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) relax_row(phi, nu, src_phi, src_nu, solve, j, k, 0, 1);
+  for (int k = 0; k < phi.nz(); ++k)
+    for (int j = 0; j < phi.ny(); ++j) relax_row(phi, nu, src_phi, src_nu, solve, j, k, 0, 1);
 }
 
 void ChOperator::apply(Fields& u, Fields& out) const {
-  u[0].exchange_halo();
-  u[1].exchange_halo();
+  exchange_halos(u[0], u[1]);
   nso_residual(u[0], u[1], nullptr, nullptr, p_, out[0], out[1]);
 }
 
 void ChOperator::residual(Fields& u, const Fields& rhs, Fields& out) const {
-  u[0].exchange_halo();
-  u[1].exchange_halo();
+  exchange_halos(u[0], u[1]);
   nso_residual(u[0], u[1], &rhs[0], &rhs[1], p_, out[0], out[1]);
 }
 
@@ -279,34 +277,43 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
   // A coarsest level of odd size has no consistent red-black colouring across the periodic
   // wrap; there the lexicographic sweep is used.
   const bool red_black = p_.order == SweepOrder::kRedBlack && u[0].n() % 2 == 0;
+  // A Gauss-Seidel sweep in lexicographic order depends on the order of the blocks.
+  if (!red_black && u[0].decomposition())
+    throw std::logic_error("lexicographic smoothing on a grid split among processes");
   for (int s = 0; s < sweeps; ++s) {
     if (red_black) {
-      u[0].exchange_halo();
-      u[1].exchange_halo();
-      smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_);
+      if (u[0].whole()) {  // one block: one fused pass, periodic wrap per plane
+        exchange_halos(u[0], u[1]);
+        smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_);
+      } else {  // blocks of other processes: exchange between the colours
+        for (int colour = 0; colour < 2; ++colour) {
+          exchange_halos(u[0], u[1]);
+          smooth_color(u[0], u[1], rhs[0], rhs[1], p_, colour);
+        }
+      }
     } else {
-      u[0].exchange_halo();
-      u[1].exchange_halo();
+      exchange_halos(u[0], u[1]);
       smooth_lexicographic(u[0], u[1], rhs[0], rhs[1], p_);
     }
   }
 }
 
 double ChOperator::norm(const Fields& d) const {
-  const int n = d[0].n();
+  const int nx = d[0].nx(), ny = d[0].ny(), nz = d[0].nz();
   double s1 = 0.0, s2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : s1, s2) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+#pragma omp parallel for schedule(static) reduction(+ : s1, s2) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* a = &d[0](0, j, k);
       const double* b = &d[1](0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         s1 += a[i] * a[i];
         s2 += b[i] * b[i];
       }
     }
-  const double cells = double(n) * n * n;
-  return std::sqrt((p_.dt * p_.dt * s1 + s2) / cells);
+  double sums[2] = {s1, s2};
+  d[0].sum_over_ranks(sums, 2);
+  return std::sqrt((p_.dt * p_.dt * sums[0] + sums[1]) / d[0].global_cells());
 }
 
 }  // namespace cmcsurf

@@ -49,8 +49,8 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
                       const Field* rhs_nu, const ChParams& p, Field& out_phi, Field& out_nu);
 
-// One relaxation of the cells of one colour ((i+j+k) % 2 == colour) by (A.3)-(A.4),
-// in parallel; the caller exchanges halos between colours.
+// One relaxation of the cells of one colour ((i+j+k) % 2 == colour, global indices) by
+// (A.3)-(A.4), in parallel; the caller exchanges halos between colours.
 void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                   const ChParams& p, int colour);
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,

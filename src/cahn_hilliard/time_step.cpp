@@ -10,8 +10,9 @@
 namespace cmcsurf {
 
 
-ChStepper::ChStepper(int n, const ChParams& params, const StepSolverOptions& options)
-    : op_(params), options_(options), solver_(n, 2, 1, options.fas) {}
+ChStepper::ChStepper(int n, const ChParams& params, const StepSolverOptions& options,
+                     std::shared_ptr<const Decomposition> decomposition)
+    : op_(params), options_(options), solver_(n, 2, 1, options.fas, std::move(decomposition)) {}
 
 void ChStepper::set_params(const ChParams& params) {
   op_ = ChOperator(params);
@@ -28,14 +29,14 @@ namespace {
 
 // guess = x + r (x - prev) and prev = x, cell by cell (x is phi^n or nu^n).
 void extrapolate_into(const Field& x, Field& prev, Field& guess, double r) {
-  const int n = x.n();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  const int nx = x.nx(), ny = x.ny(), nz = x.nz();
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* xr = &x(0, j, k);
       double* pr = &prev(0, j, k);
       double* gr = &guess(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         const double v = xr[i];
         gr[i] = v + r * (v - pr[i]);
         pr[i] = v;
@@ -55,15 +56,15 @@ StepStats ChStepper::step(Field& phi) {
   if (!nu_valid_) {
     // nu = f(phi) - eps^2 Lap phi: Eq. (6) at phi^n.
     u[0].exchange_halo();
-    const int n = phi.n();
+    const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
     const double inv_h2 = double(n) * n, eps2 = p.epsilon * p.epsilon;
     const std::ptrdiff_t sy = u[0].stride_y(), sz = u[0].stride_z();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j) {
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
         const double* ph = &u[0](0, j, k);
         double* nv = &u[1](0, j, k);
-        for (int i = 0; i < n; ++i)
+        for (int i = 0; i < nx; ++i)
           nv[i] = ch_f(ph[i]) - eps2 * laplacian(ph + i, sy, sz, inv_h2);
       }
     nu_valid_ = true;
@@ -79,8 +80,8 @@ StepStats ChStepper::step(Field& phi) {
   const double target = std::max(options_.tol, options_.rtol * stats.first_residual);
   if (options_.extrapolate) {
     if (prev_phi_.n() != phi.n()) {
-      prev_phi_ = Field(phi.n(), 0);
-      prev_nu_ = Field(phi.n(), 0);
+      prev_phi_ = Field::like(phi, 0);
+      prev_nu_ = Field::like(phi, 0);
       history_valid_ = false;
     }
     if (history_valid_ && stats.residual > target) {

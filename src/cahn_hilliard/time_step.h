@@ -1,6 +1,7 @@
 // One convex-splitting time step phi^n -> phi^{n+1} of Eqs. (5)-(6), solved by FAS V-cycles.
 #pragma once
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -42,7 +43,9 @@ class SolverDiverged : public std::runtime_error {
 
 class ChStepper {
  public:
-  ChStepper(int n, const ChParams& params, const StepSolverOptions& options);
+  // decomposition: the processes sharing the grid (null: this process holds it whole).
+  ChStepper(int n, const ChParams& params, const StepSolverOptions& options,
+            std::shared_ptr<const Decomposition> decomposition = nullptr);
 
   const ChParams& params() const { return op_.params(); }
   void set_params(const ChParams& params);

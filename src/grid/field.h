@@ -1,11 +1,14 @@
-// Periodic cell-centred scalar field on the unit cube with ghost layers.
+// Periodic cell-centred scalar field on the unit cube with ghost layers: the whole N^3 grid,
+// or one process's block of it (parallel/decomposition.h).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <vector>
 
 #include "grid/halo.h"
+#include "parallel/decomposition.h"
 
 namespace cmcsurf {
 
@@ -25,15 +28,29 @@ struct AlignedAllocator {
   bool operator==(const AlignedAllocator<U>&) const { return true; }
 };
 
-// An N^3 field, h = 1/N, cell i centred at x_i = (i + 1/2) h for i = 0..N-1
-// (the paper's x_i = (i - 1/2) h with 1-based i). Ghost layers of width g
-// surround the interior so that stencils never wrap indices.
+// A field on the N^3 grid, h = 1/N, cell i centred at x_i = (i + 1/2) h for i = 0..N-1
+// (the paper's x_i = (i - 1/2) h with 1-based i). This process stores the block of
+// nx x ny x nz cells starting at global cell (ox, oy, oz) (the whole grid without a
+// decomposition); local index (i, j, k) is global cell (ox + i, oy + j, oz + k). Ghost layers
+// of width g surround the block so that stencils never wrap indices.
 class Field {
  public:
   Field() = default;
-  Field(int n, int ghost);
+  Field(int n, int ghost);  // the whole grid on this process
+  // This process's block of the n^3 grid of decomposition d.
+  Field(int n, int ghost, std::shared_ptr<const Decomposition> d);
+  // Same grid and block as `like`, with another ghost width.
+  static Field like(const Field& like, int ghost);
 
-  int n() const { return n_; }
+  int n() const { return n_; }  // global cells per side (mesh width 1/n)
+  int nx() const { return size_[0]; }
+  int ny() const { return size_[1]; }
+  int nz() const { return size_[2]; }
+  const std::array<int, 3>& size() const { return size_; }
+  const std::array<int, 3>& offset() const { return offset_; }
+  // Red-black colour of local cell (0, 0, 0): parity of its global index sum.
+  int offset_parity() const { return (offset_[0] + offset_[1] + offset_[2]) & 1; }
+  bool whole() const { return size_[0] == n_ && size_[1] == n_ && size_[2] == n_; }
   int ghost() const { return ghost_; }
   double h() const { return 1.0 / n_; }
 
@@ -49,16 +66,32 @@ class Field {
   double* data() { return data_.data(); }
   const double* data() const { return data_.data(); }
   std::size_t storage_size() const { return data_.size(); }
-  std::size_t interior_size() const { return std::size_t(n_) * n_ * n_; }
+  // Cells of this process's block, and of the whole grid.
+  std::size_t interior_size() const { return std::size_t(size_[0]) * size_[1] * size_[2]; }
+  double global_cells() const { return double(n_) * n_ * n_; }
 
   // Halo-exchange plan for this field's geometry (shared by fields of one level).
   const HaloPlan& halo_plan() const { return *plan_; }
+  // The processes sharing the grid (null for a field that this process holds whole).
+  const Decomposition* decomposition() const {
+    return plan_ ? plan_->decomposition.get() : nullptr;
+  }
+  // Sums of per-process partial sums (identity on one process); every process gets the same.
+  double sum_over_ranks(double local) const {
+    return plan_->decomposition ? plan_->decomposition->sum(local) : local;
+  }
+  void sum_over_ranks(double* values, int count) const {
+    if (plan_->decomposition) plan_->decomposition->sum(values, count);
+  }
 
   void fill(double value);  // interior and ghosts
   void exchange_halo() { apply_halo(*plan_, *this); }
 
  private:
+  void allocate(const Block& b, int ghost, std::shared_ptr<const Decomposition> d);
   int n_ = 0;
+  std::array<int, 3> size_{};
+  std::array<int, 3> offset_{};
   int ghost_ = 0;
   std::ptrdiff_t sy_ = 0;
   std::ptrdiff_t sz_ = 0;
@@ -71,18 +104,37 @@ class Field {
 // barrier can wait a whole scheduler quantum for a descheduled thread).
 constexpr int kParallelMinN = 32;
 
-// Interior loop helper: calls f(i, j, k) for every interior cell, k outermost.
+// Interior loop helper: calls f(i, j, k) for every interior cell of an n^3 grid, k outermost.
 template <class F>
 void for_each_cell(int n, F&& f) {
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) f(i, j, k);
 }
+// The same over a field's (local) block.
+template <class F>
+void for_each_cell(const Field& field, F&& f) {
+  for (int k = 0; k < field.nz(); ++k)
+    for (int j = 0; j < field.ny(); ++j)
+      for (int i = 0; i < field.nx(); ++i) f(i, j, k);
+}
 
-// Copies the interior of src into dst (same n, any ghost widths).
+// Halo exchange of two fields of the same geometry (phi and nu) in one pass of messages.
+inline void exchange_halos(Field& a, Field& b) {
+  Field* const fields[2] = {&a, &b};
+  apply_halo(a.halo_plan(), fields, 2);
+}
+
+// Copies the interior of src into dst (same block, any ghost widths).
 void copy_interior(const Field& src, Field& dst);
 
 // Adds c to every interior value (ghosts are left for the next halo exchange).
 void add_constant(Field& f, double c);
+
+// The whole grid from the blocks of a decomposed field, on every process (all) or on rank 0
+// only (`whole` is left untouched elsewhere). A whole field is copied. whole: Field(n, g).
+void gather_field(const Field& block, Field& whole, bool all);
+// This process's block of a whole field held by every process (interior only).
+void take_block(const Field& whole, Field& block);
 
 }  // namespace cmcsurf

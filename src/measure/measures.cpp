@@ -42,62 +42,67 @@ inline double grad4_sq_scaled(const double* p, std::ptrdiff_t sy, std::ptrdiff_t
 
 // Sum over interior cells of term(p), p pointing at the cell in phi's padded storage:
 // OpenMP over k planes, unit-stride SIMD loop over i.
+// The sum is over the whole grid: per-process partial sums are added over the processes.
 template <class Term>
 double sum_cells(const Field& phi, Term term) {
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double* origin = phi.data() + phi.index(0, 0, 0);
   double sum = 0.0;
 #pragma omp parallel for reduction(+ : sum) schedule(static)
-  for (int k = 0; k < n; ++k) {
+  for (int k = 0; k < nz; ++k) {
     double plane = 0.0;
-    for (int j = 0; j < n; ++j) {
+    for (int j = 0; j < ny; ++j) {
       const double* row = origin + k * sz + j * sy;
       const Term local = term;  // a thread-local copy keeps captured strides in registers
       double s = 0.0;
 #pragma omp simd reduction(+ : s)
-      for (int i = 0; i < n; ++i) s += local(row + i);
+      for (int i = 0; i < nx; ++i) s += local(row + i);
       plane += s;
     }
     sum += plane;
   }
-  return sum;
+  return phi.sum_over_ranks(sum);
 }
 
 // Two sums at once (weighted averages): term(p, &a, &b) adds to a and b.
 template <class Term>
 std::pair<double, double> sum_cells2(const Field& phi, Term term) {
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double* origin = phi.data() + phi.index(0, 0, 0);
   double sum_a = 0.0, sum_b = 0.0;
 #pragma omp parallel for reduction(+ : sum_a, sum_b) schedule(static)
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
       const double* row = origin + k * sz + j * sy;
       const Term local = term;  // as in sum_cells
       double a = 0.0, b = 0.0;
 #pragma omp simd reduction(+ : a, b)
-      for (int i = 0; i < n; ++i) local(row + i, a, b);
+      for (int i = 0; i < nx; ++i) local(row + i, a, b);
       sum_a += a;
       sum_b += b;
     }
   }
-  return {sum_a, sum_b};
+  double sums[2] = {sum_a, sum_b};
+  phi.sum_over_ranks(sums, 2);
+  return {sums[0], sums[1]};
 }
 
 // Unit vertex normals n = m/|m| on one plane of vertices (Appendix B). Vertex (i, j, kv)
 // sits at the common corner of cells i..i+1, j..j+1, kv..kv+1 (the paper's i+1/2, j+1/2,
-// kv+1/2); i, j run over -1..n-1 and are stored at a = i+1, b = j+1, index b*(n+1) + a.
+// kv+1/2); i, j run over -1..nx-1, -1..ny-1 (block indices) and are stored at a = i+1,
+// b = j+1, index b*(nx+1) + a.
 struct VertexPlane {
   std::vector<double> nx, ny, nz;
-  explicit VertexPlane(int n) : nx(std::size_t(n + 1) * (n + 1)), ny(nx.size()), nz(nx.size()) {}
+  explicit VertexPlane(const Field& phi)
+      : nx(std::size_t(phi.nx() + 1) * (phi.ny() + 1)), ny(nx.size()), nz(nx.size()) {}
 };
 
 void vertex_normals(const Field& phi, int kv, VertexPlane& out) {
-  const int n = phi.n(), nv = n + 1;
+  const int nv = phi.nx() + 1;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
-  for (int j = -1; j < n; ++j) {
+  for (int j = -1; j < phi.ny(); ++j) {
     const double* row = phi.data() + phi.index(-1, j, kv);
     double* nx = out.nx.data() + std::size_t(j + 1) * nv;
     double* ny = out.ny.data() + std::size_t(j + 1) * nv;
@@ -123,35 +128,36 @@ void vertex_normals(const Field& phi, int kv, VertexPlane& out) {
 }  // namespace
 
 double mass(const Field& phi) {
-  return sum_cells(phi, [](const double* p) { return p[0]; }) / double(phi.interior_size());
+  return sum_cells(phi, [](const double* p) { return p[0]; }) / phi.global_cells();
 }
 
 double volume_fraction(const Field& phi) {
   return sum_cells(phi, [](const double* p) { return p[0] > 0.5 ? 1.0 : 0.0; }) /
-         double(phi.interior_size());
+         phi.global_cells();
 }
 
 double l2_norm(const Field& a) {
   return std::sqrt(sum_cells(a, [](const double* p) { return p[0] * p[0]; }) /
-                   double(a.interior_size()));
+                   a.global_cells());
 }
 
 double l2_diff(const Field& a, const Field& b) {
-  if (a.n() != b.n()) throw std::invalid_argument("l2_diff: fields of different size");
-  const int n = a.n();
+  if (a.n() != b.n() || a.size() != b.size())
+    throw std::invalid_argument("l2_diff: fields of different size");
+  const int nx = a.nx(), ny = a.ny(), nz = a.nz();
   double sum = 0.0;
 #pragma omp parallel for reduction(+ : sum) schedule(static)
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
       const double* pa = &a(0, j, k);
       const double* pb = &b(0, j, k);
       double s = 0.0;
 #pragma omp simd reduction(+ : s)
-      for (int i = 0; i < n; ++i) s += (pa[i] - pb[i]) * (pa[i] - pb[i]);
+      for (int i = 0; i < nx; ++i) s += (pa[i] - pb[i]) * (pa[i] - pb[i]);
       sum += s;
     }
   }
-  return std::sqrt(sum / double(a.interior_size()));
+  return std::sqrt(a.sum_over_ranks(sum) / a.global_cells());
 }
 
 // Section 2.2: F = 6 sqrt2 sum [W/eps + eps/2 |grad_h phi|^2] h^3, forward face differences.
@@ -195,15 +201,12 @@ static double grad4_squared_ref(const Field& phi, int i, int j, int k) {
 
 double area_ref(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "area_ref");
-  const int n = phi.n();
   const double h = phi.h();
   double sum = 0.0;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        sum += 6.0 * std::sqrt(2.0) * epsilon * grad4_squared_ref(phi, i, j, k) * h * h * h;
-      }
-  return sum;
+  for_each_cell(phi, [&](int i, int j, int k) {
+    sum += 6.0 * std::sqrt(2.0) * epsilon * grad4_squared_ref(phi, i, j, k) * h * h * h;
+  });
+  return phi.sum_over_ranks(sum);
 }
 
 // Appendix B: kappa = div_d(m/|m|) at cell centres from the 8 vertex normals of each cell,
@@ -211,16 +214,16 @@ double area_ref(const Field& phi, double epsilon) {
 // k planes, keeping the vertex planes below and above the current cell plane.
 double mean_curvature(const Field& phi) {
   require_ghost(phi, 2, "mean_curvature");
-  const int n = phi.n(), nv = n + 1;
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz(), nv = nx + 1;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   double sum_kw = 0.0, sum_w = 0.0;
 #pragma omp parallel reduction(+ : sum_kw, sum_w)
   {
-    VertexPlane below(n), above(n);
+    VertexPlane below(phi), above(phi);
     int last_k = -2;
 #pragma omp for schedule(static)
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < nz; ++k) {
       if (last_k == k - 1) {
         std::swap(below, above);
       } else {
@@ -228,7 +231,7 @@ double mean_curvature(const Field& phi) {
       }
       vertex_normals(phi, k, above);
       last_k = k;
-      for (int j = 0; j < n; ++j) {
+      for (int j = 0; j < ny; ++j) {
         const double* row = phi.data() + phi.index(0, j, k);
         // Vertex (i-1, j-1) of a plane is at a = i, b = j; (i, j) at a = i+1, b = j+1.
         const std::size_t lo = std::size_t(j) * nv, hi = std::size_t(j + 1) * nv;
@@ -240,7 +243,7 @@ double mean_curvature(const Field& phi) {
         const double* az = above.nz.data();
         double s_kw = 0.0, s_w = 0.0;
 #pragma omp simd reduction(+ : s_kw, s_w)
-        for (int i = 0; i < n; ++i) {
+        for (int i = 0; i < nx; ++i) {
           const std::size_t l0 = lo + i, l1 = lo + i + 1, h0 = hi + i, h1 = hi + i + 1;
           const double div_x =
               (bx[l1] + bx[h1] + ax[l1] + ax[h1]) - (bx[l0] + bx[h0] + ax[l0] + ax[h0]);
@@ -257,8 +260,10 @@ double mean_curvature(const Field& phi) {
       }
     }
   }
-  if (sum_w == 0.0) return 0.0;  // constant field: no interface
-  return -0.5 * (sum_kw / (4.0 * h)) / sum_w;
+  double sums[2] = {sum_kw, sum_w};
+  phi.sum_over_ranks(sums, 2);
+  if (sums[1] == 0.0) return 0.0;  // constant field: no interface
+  return -0.5 * (sums[0] / (4.0 * h)) / sums[1];
 }
 
 double mean_curvature_ref(const Field& phi) {

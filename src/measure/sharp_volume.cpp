@@ -56,15 +56,15 @@ double tet_fraction_above(const double g[4]) {
 
 double linear_volume_fraction(const Field& phi) {
   if (phi.ghost() < 1) throw std::invalid_argument("linear_volume_fraction: needs ghost >= 1");
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const std::ptrdiff_t off[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
   double sixths = 0.0;  // sum of tetrahedron fractions: 6 per dual cell
 #pragma omp parallel for schedule(static) reduction(+ : sixths)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* row = &phi(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         const double* p = row + i;
         double v[8];
         double lo = p[0], hi = p[0];
@@ -79,7 +79,7 @@ double linear_volume_fraction(const Field& phi) {
           sixths += cube_sixfold_fraction(v);
       }
     }
-  return sixths / (6.0 * double(phi.interior_size()));
+  return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
 }
 
 double linear_volume_fraction_ref(const Field& phi) {
@@ -98,15 +98,15 @@ double linear_volume_fraction_ref(const Field& phi) {
 
 double sharp_volume_fraction(const Field& phi) {
   if (phi.ghost() < 2) throw std::invalid_argument("sharp_volume_fraction: needs ghost >= 2");
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z(), sd = 1 + sy + sz;
-  Field psi(n, 1);
+  Field psi = Field::like(phi, 1);
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* p = &phi(0, j, k);
       double* q = &psi(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         const double c = p[i];
         const double lap = p[i + 1] + p[i - 1] + p[i + sy] + p[i - sy] + p[i + sz] + p[i - sz] - 6 * c;
         const double diag = p[i + sd] + p[i - sd] - 2 * c;

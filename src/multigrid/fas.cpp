@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "multigrid/transfer.h"
 
 namespace cmcsurf {
@@ -44,15 +46,31 @@ std::string check_coarsenable(int n) {
       n, near);
 }
 
-FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options)
+FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options,
+                     std::shared_ptr<const Decomposition> decomposition)
     : options_(options) {
-  for (int size : coarsening_sizes(n)) {
+  const bool parallel = decomposition && decomposition->distributed();
+  if (parallel && !decomposition->splits(n))
+    throw std::invalid_argument("FasSolver: " + decomposition->check_grid(n));
+  const std::vector<int> sizes = coarsening_sizes(n);
+  bool distributed = parallel;
+  for (int size : sizes) {
+    // HPGMG-style agglomeration: stay split while the blocks are large enough; the coarsest
+    // level (odd or 2 cells) is always gathered.
+    const bool was_distributed = distributed;
+    if (distributed && size != n && (size == sizes.back() || !decomposition->splits(size)))
+      distributed = false;
+    const auto d = distributed ? decomposition : nullptr;
     FasLevel level;
     for (int c = 0; c < components; ++c) {
-      level.u.emplace_back(size, ghost);
-      level.rhs.emplace_back(size, ghost);
-      level.defect.emplace_back(size, ghost);
-      if (size != n) level.u_start.emplace_back(size, ghost);
+      level.u.emplace_back(size, ghost, d);
+      level.rhs.emplace_back(size, ghost, d);
+      level.defect.emplace_back(size, ghost, d);
+      if (size != n) level.u_start.emplace_back(size, ghost, d);
+      if (was_distributed && !distributed) {
+        level.block_u.emplace_back(size, ghost, decomposition);
+        level.block_v.emplace_back(size, ghost, decomposition);
+      }
     }
     levels_.push_back(std::move(level));
   }
@@ -76,27 +94,42 @@ void FasSolver::cycle(const FasOperator& op, int l) {
 
   op.smooth(fine.u, fine.rhs, options_.pre_sweeps);  // 1) presmoothing
   op.residual(fine.u, fine.rhs, fine.defect);        // 2) defect
-  for (int c = 0; c < nc; ++c) {                     // 3) restrict defect and solution
-    restrict_average(fine.defect[c], coarse.rhs[c]);
-    restrict_average(fine.u[c], coarse.u[c]);
+  const bool gather = !coarse.block_u.empty();  // coarse level held whole by every process
+  for (int c = 0; c < nc; ++c) {                 // 3) restrict defect and solution
+    if (gather) {
+      restrict_average(fine.defect[c], coarse.block_u[c]);
+      gather_field(coarse.block_u[c], coarse.rhs[c], true);
+      restrict_average(fine.u[c], coarse.block_u[c]);
+      gather_field(coarse.block_u[c], coarse.u[c], true);
+    } else {
+      restrict_average(fine.defect[c], coarse.rhs[c]);
+      restrict_average(fine.u[c], coarse.u[c]);
+    }
     copy_interior(coarse.u[c], coarse.u_start[c]);
   }
   op.apply(coarse.u, coarse.defect);  // 4) coarse rhs = restricted defect + NSO(u_coarse)
   for (int c = 0; c < nc; ++c) {
     Field& rhs = coarse.rhs[c];
     const Field& a = coarse.defect[c];
-    const int n = rhs.n();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j) {
+    const int nx = rhs.nx(), ny = rhs.ny(), nz = rhs.nz();
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
         double* r = &rhs(0, j, k);
         const double* av = &a(0, j, k);
-        for (int i = 0; i < n; ++i) r[i] += av[i];
+        for (int i = 0; i < nx; ++i) r[i] += av[i];
       }
   }
   cycle(op, l + 1);  // 5) coarse solve
-  for (int c = 0; c < nc; ++c)  // 6-8) coarse-grid correction
-    add_interpolated_correction(coarse.u[c], coarse.u_start[c], fine.u[c]);
+  for (int c = 0; c < nc; ++c) {  // 6-8) coarse-grid correction
+    if (gather) {
+      take_block(coarse.u[c], coarse.block_u[c]);
+      take_block(coarse.u_start[c], coarse.block_v[c]);
+      add_interpolated_correction(coarse.block_u[c], coarse.block_v[c], fine.u[c]);
+    } else {
+      add_interpolated_correction(coarse.u[c], coarse.u_start[c], fine.u[c]);
+    }
+  }
   op.smooth(fine.u, fine.rhs, options_.post_sweeps);  // 9) postsmoothing
 }
 

@@ -1,6 +1,7 @@
 // Nonlinear FAS multigrid V-cycle (Appendix A), independent of the operator it solves.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,14 +50,24 @@ struct FasLevel {
   Fields rhs;      // right-hand side (source term on the finest level, FAS rhs below)
   Fields defect;   // scratch: defect, then A(u_coarse)
   Fields u_start;  // restricted approximation before the coarse solve (for the CGC)
+  // Only on the first level gathered onto every process below a level split among processes:
+  // this process's block of the level (restriction target, then correction source).
+  Fields block_u, block_v;
 };
 
 class FasSolver {
  public:
-  FasSolver(int n, int components, int ghost, const FasOptions& options);
+  // With a decomposition of several processes, the finest level (decomposition->splits(n)) and
+  // every coarser level whose blocks still have an even number >= kMinBlockCells of cells per
+  // axis are split among the processes; the levels below are gathered onto every process and
+  // solved there redundantly (docs/scaling.md).
+  FasSolver(int n, int components, int ghost, const FasOptions& options,
+            std::shared_ptr<const Decomposition> decomposition = nullptr);
 
   int levels() const { return int(levels_.size()); }
   int size(int level) const { return levels_[level].u[0].n(); }
+  // Whether a level is split among processes (false everywhere on one process).
+  bool distributed(int level) const { return levels_[level].u[0].decomposition() != nullptr; }
   // Finest-level unknowns and right-hand side, to be filled by the caller.
   Fields& solution() { return levels_[0].u; }
   const Fields& solution() const { return levels_[0].u; }

@@ -41,21 +41,21 @@ Measures measure_field(Field& phi, double epsilon) {
 }
 
 double average_volume_fraction(const Field& phi, double alpha, double beta) {
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const bool upper = alpha > 0.5;
   double sum = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : sum)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       const double* p = &phi(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         double v = p[i];
         if (upper && v > beta) v = 1.0;
         if (!upper && v < beta) v = 0.0;
         sum += v;
       }
     }
-  return sum / phi.interior_size();
+  return phi.sum_over_ranks(sum) / phi.global_cells();
 }
 
 BisectionResult bisect_threshold(const Field& phi, double alpha, double tol, int max_it) {
@@ -87,13 +87,13 @@ BisectionResult bisect_threshold(const Field& phi, double alpha, double tol, int
 }
 
 void apply_threshold(Field& phi, double alpha, double beta) {
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const bool upper = alpha > 0.5;
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       double* p = &phi(0, j, k);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < nx; ++i) {
         if (upper && p[i] > beta) p[i] = 1.0;
         if (!upper && p[i] < beta) p[i] = 0.0;
       }
@@ -102,12 +102,12 @@ void apply_threshold(Field& phi, double alpha, double beta) {
 }
 
 void truncate_unit_interval(Field& phi) {
-  const int n = phi.n();
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
       double* p = &phi(0, j, k);
-      for (int i = 0; i < n; ++i) p[i] = std::min(1.0, std::max(0.0, p[i]));
+      for (int i = 0; i < nx; ++i) p[i] = std::min(1.0, std::max(0.0, p[i]));
     }
   phi.exchange_halo();
 }
@@ -126,8 +126,9 @@ class Evolution {
       : params_(params),
         progress_(progress),
         result_(result),
-        previous_(params.grid, 2),
-        stepper_(params.grid, {params.epsilon, params.dt(), params.smoother}, params.solver) {}
+        previous_(params.grid, 2, params.decomposition),
+        stepper_(params.grid, {params.epsilon, params.dt(), params.smoother}, params.solver,
+                 params.decomposition) {}
 
   void set_epsilon(double eps) { stepper_.set_params({eps, params_.dt(), params_.smoother}); }
 
@@ -265,7 +266,7 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
 
 RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress) {
   RunResult result;
-  result.phi = Field(params.grid, 2);
+  result.phi = Field(params.grid, 2, params.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
   Evolution evolution(params, progress, result);
@@ -286,7 +287,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progres
   coarse.phi.exchange_halo();
 
   RunResult result;
-  result.phi = Field(params.grid, 2);
+  result.phi = Field(params.grid, 2, params.decomposition);
   prolongate_trilinear(coarse.phi, result.phi);
   result.history = coarse.history;
   for (StepRecord& r : result.history) r.stage = fmt::format("{}@{}", r.stage, coarse_params.grid);
@@ -308,13 +309,15 @@ RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progres
 }  // namespace
 
 void prolongate_trilinear(const Field& coarse, Field& fine) {
-  const int nf = fine.n();
   // Cell-centred linear interpolation: a fine cell's centre lies a quarter of a coarse cell
   // from its parent's centre, so per axis the weights are 3/4 (parent) and 1/4 (neighbour).
-#pragma omp parallel for schedule(static) if (nf >= kParallelMinN)
-  for (int k = 0; k < nf; ++k)
-    for (int j = 0; j < nf; ++j)
-      for (int i = 0; i < nf; ++i) {
+  // Blocks: the fine block starts at twice the coarse block's offset (even), so i / 2 and
+  // i % 2 hold for block indices too.
+  const int nfx = fine.nx(), nfy = fine.ny(), nfz = fine.nz();
+#pragma omp parallel for schedule(static) if (nfx >= kParallelMinN)
+  for (int k = 0; k < nfz; ++k)
+    for (int j = 0; j < nfy; ++j)
+      for (int i = 0; i < nfx; ++i) {
         const int ci = i / 2, cj = j / 2, ck = k / 2;
         const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
         double v = 0.0;
@@ -335,12 +338,15 @@ RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   init.radius = params.radius;
   init.seed = params.seed;
   init.noise_amplitude = params.noise_amplitude;
-  if (!is_nodal_surface(params.surface)) return relax_field(make_initial_field(init, params.grid, 2), params, progress);
-  if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty())
+  const auto& d = params.decomposition;
+  if (!is_nodal_surface(params.surface))
+    return relax_field(make_initial_field(init, params.grid, 2, d), params, progress);
+  if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
+      (!d || d->splits(params.grid / 2)))
     return run_cmc_from_coarse(params, progress);
 
   RunResult result;
-  result.phi = make_initial_field(init, params.grid, 2);  // step 1
+  result.phi = make_initial_field(init, params.grid, 2, d);  // step 1
   Field& phi = result.phi;
   truncate_unit_interval(phi);  // step 2
   result.initial = measure_field(phi, params.epsilon);

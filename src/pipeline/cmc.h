@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,9 @@ struct RunParams {
   // its fixed points do not depend on dt, so only the path to the equilibrium changes.
   double dt_max_factor = 0.0;
   bool fast = false;  // set by `--fast` (which chose the options above); reported only
+  // The processes sharing the grid (null: this process holds it whole). Not a parameter of
+  // the result: a run gives the same surface on any number of processes (docs/scaling.md).
+  std::shared_ptr<const Decomposition> decomposition;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -103,7 +107,7 @@ struct VolumeIterate {
 };
 
 struct RunResult {
-  Field phi;  // final field (ghost 2)
+  Field phi;  // final field (ghost 2; this process's block under a decomposition)
   std::vector<StepRecord> history;
   int steps = 0;            // relaxation steps at epsilon (step 6 and the "volume" stage)
   int volume_steps = 0;     // of which after mass corrections (stage "volume")

@@ -199,7 +199,8 @@ class UserFormula {
 // the worksharing loop) and the first one is rethrown after the parallel region.
 template <class MakeEvaluator>
 void fill_at_cell_centres(Field& phi, MakeEvaluator&& make) {
-  const int n = phi.n();
+  const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const auto& o = phi.offset();  // block cells sit at global index offset + local index
   std::exception_ptr error;
   const auto keep_first = [&error] {
 #pragma omp critical(cmcsurf_initial_error)
@@ -214,12 +215,13 @@ void fill_at_cell_centres(Field& phi, MakeEvaluator&& make) {
       keep_first();
     }
 #pragma omp for schedule(static)
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < nz; ++k) {
       if (!value) continue;
       try {
-        for (int j = 0; j < n; ++j)
-          for (int i = 0; i < n; ++i)
-            phi(i, j, k) = (*value)(cell_centre(i, n), cell_centre(j, n), cell_centre(k, n));
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i)
+            phi(i, j, k) = (*value)(cell_centre(o[0] + i, n), cell_centre(o[1] + j, n),
+                                    cell_centre(o[2] + k, n));
       } catch (...) {
         keep_first();
       }
@@ -291,9 +293,18 @@ double nodal_value(const std::string& surface, double x, double y, double z) {
   throw_unknown(surface);
 }
 
-Field make_initial_field(const InitialFieldParams& params, int n, int ghost) {
+Field make_initial_field(const InitialFieldParams& params, int n, int ghost,
+                         std::shared_ptr<const Decomposition> decomposition) {
   const std::string& name = params.surface;
-  Field phi(n, ghost);
+  if (decomposition && decomposition->distributed() && name == "noise") {
+    // The random stream runs over the whole grid: draw it all, keep this block.
+    const Field whole = make_initial_field(params, n, ghost);
+    Field phi(n, ghost, decomposition);
+    take_block(whole, phi);
+    phi.exchange_halo();
+    return phi;
+  }
+  Field phi(n, ghost, decomposition);
 
   if (const NodalSurface* s = find_nodal(name)) {
     // phi^{step 1} = F + 1/2 (Eqs. 7-9).
@@ -310,14 +321,16 @@ Field make_initial_field(const InitialFieldParams& params, int n, int ghost) {
         return (*formula)(kTwoPi * x, kTwoPi * y, kTwoPi * z) + 0.5;
       };
     });
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
+    const auto& o = phi.offset();
+    for (int k = 0; k < phi.nz(); ++k)
+      for (int j = 0; j < phi.ny(); ++j)
+        for (int i = 0; i < phi.nx(); ++i)
           if (!std::isfinite(phi(i, j, k)))
             throw std::invalid_argument(
                 "surface '" + name + "' is not finite at the cell centre (" +
-                std::to_string(cell_centre(i, n)) + ", " + std::to_string(cell_centre(j, n)) +
-                ", " + std::to_string(cell_centre(k, n)) + ") of the unit cell");
+                std::to_string(cell_centre(o[0] + i, n)) + ", " +
+                std::to_string(cell_centre(o[1] + j, n)) + ", " +
+                std::to_string(cell_centre(o[2] + k, n)) + ") of the unit cell");
   } else if (name == "sphere") {
     // Section 4.3: phi = (1 + tanh((r - |x - c|) / (2 sqrt 2 epsilon))) / 2, c = (1/2, 1/2, 1/2).
     const double r = params.radius, w = 2.0 * std::sqrt(2.0) * params.epsilon;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ double nodal_value(const std::string& surface, double x, double y, double z);
 
 // phi^0 sampled at cell centres x_i = (i + 1/2) h; halo is exchanged before returning.
 // Throws std::invalid_argument for an unknown surface.
-Field make_initial_field(const InitialFieldParams& params, int n, int ghost);
+// With a decomposition of several processes, this process's block of that field.
+Field make_initial_field(const InitialFieldParams& params, int n, int ghost,
+                         std::shared_ptr<const Decomposition> decomposition = nullptr);
 
 }  // namespace cmcsurf

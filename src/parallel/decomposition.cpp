@@ -1,0 +1,248 @@
+#include "parallel/decomposition.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#ifdef CMCSURF_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace cmcsurf {
+
+namespace {
+
+// Adds the wall time of its scope to `seconds`.
+class CommTimer {
+ public:
+  explicit CommTimer(double& seconds) : seconds_(seconds) {}
+  ~CommTimer() {
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+#ifdef CMCSURF_HAVE_MPI
+struct Decomposition::Comm {
+  MPI_Comm cart = MPI_COMM_NULL;
+  ~Comm() {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized && cart != MPI_COMM_NULL) MPI_Comm_free(&cart);
+  }
+};
+#else
+struct Decomposition::Comm {};
+#endif
+
+std::shared_ptr<const Decomposition> Decomposition::self() {
+  static const auto single = std::make_shared<const Decomposition>();
+  return single;
+}
+
+std::shared_ptr<const Decomposition> Decomposition::world() {
+#ifdef CMCSURF_HAVE_MPI
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (!initialized) return self();
+  // Built once (MPI_Cart_create is collective): every later call returns the same object.
+  static std::shared_ptr<const Decomposition> cached;
+  if (cached) return cached;
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  if (ranks == 1) return cached = self();
+  auto d = std::make_shared<Decomposition>();
+  int cart_dims[3] = {0, 0, 0};  // MPI order: z (largest), y, x
+  MPI_Dims_create(ranks, 3, cart_dims);
+  const int periodic[3] = {1, 1, 1};
+  d->comm_ = std::make_shared<Comm>();
+  MPI_Cart_create(MPI_COMM_WORLD, 3, cart_dims, periodic, 0, &d->comm_->cart);
+  d->ranks_ = ranks;
+  MPI_Comm_rank(d->comm_->cart, &d->rank_);
+  for (int a = 0; a < 3; ++a) d->dims_[a] = cart_dims[2 - a];
+  d->coords_ = d->coords_of(d->rank_);
+  for (int a = 0; a < 3; ++a) {
+    int lo = 0, hi = 0;
+    MPI_Cart_shift(d->comm_->cart, 2 - a, 1, &lo, &hi);
+    d->neighbours_[a] = {lo, hi};
+  }
+  return cached = d;
+#else
+  return self();
+#endif
+}
+
+std::array<int, 3> Decomposition::coords_of(int rank) const {
+  std::array<int, 3> c{0, 0, 0};
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    int cart[3];
+    MPI_Cart_coords(comm_->cart, rank, 3, cart);
+    for (int a = 0; a < 3; ++a) c[a] = cart[2 - a];
+  }
+#else
+  (void)rank;
+#endif
+  return c;
+}
+
+std::string Decomposition::check_grid(int n) const {
+  for (int a = 0; a < 3; ++a) {
+    const int p = dims_[a];
+    if (n % (2 * p) != 0 || n / p < kMinBlockCells)
+      return fmt::format(
+          "N = {} does not split into equal blocks of an even number (>= {}) of cells on the "
+          "{} x {} x {} process grid of {} ranks: N must be a multiple of 2 x {} with N / {} >= "
+          "{} along every axis; choose another N or another number of ranks",
+          n, kMinBlockCells, dims_[0], dims_[1], dims_[2], ranks_, p, p, kMinBlockCells);
+  }
+  return "";
+}
+
+Block Decomposition::block_of(int rank, int n) const {
+  const std::array<int, 3> c = coords_of(rank);
+  Block b;
+  b.n = n;
+  for (int a = 0; a < 3; ++a) {
+    b.size[a] = n / dims_[a];
+    b.offset[a] = c[a] * b.size[a];
+  }
+  return b;
+}
+
+double Decomposition::sum(double local) const {
+  sum(&local, 1);
+  return local;
+}
+
+void Decomposition::sum(double* values, int count) const {
+  if (!comm_) return;
+  std::vector<double> all(std::size_t(count) * ranks_);
+  allgather(values, std::size_t(count), all.data());
+  for (int c = 0; c < count; ++c) {
+    double s = 0.0;
+    for (int r = 0; r < ranks_; ++r) s += all[std::size_t(r) * count + c];
+    values[c] = s;
+  }
+}
+
+double Decomposition::max(double local) const {
+  if (!comm_) return local;
+  std::vector<double> all(ranks_);
+  allgather(&local, 1, all.data());
+  return *std::max_element(all.begin(), all.end());
+}
+
+int Decomposition::max_exit_code(int code) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    int worst = code;
+    MPI_Request request;
+    MPI_Iallreduce(&code, &worst, 1, MPI_INT, MPI_MAX, comm_->cart, &request);
+    for (int done = 0;;) {
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      if (done) return worst;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+#endif
+  return code;
+}
+
+void Decomposition::exchange(int axis, const double* send_lo, const double* send_hi,
+                             double* recv_lo, double* recv_hi, std::size_t count) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.halo_bytes += 2.0 * sizeof(double) * count;
+    stats_.halo_messages += 2;
+    const int lo = neighbours_[axis][0], hi = neighbours_[axis][1];
+    const int c = int(count);
+    MPI_Request req[4];
+    // Tag 0 travels up (a high face into the neighbour's low ghosts), tag 1 travels down.
+    MPI_Irecv(recv_lo, c, MPI_DOUBLE, lo, 0, comm_->cart, &req[0]);
+    MPI_Irecv(recv_hi, c, MPI_DOUBLE, hi, 1, comm_->cart, &req[1]);
+    MPI_Isend(send_hi, c, MPI_DOUBLE, hi, 0, comm_->cart, &req[2]);
+    MPI_Isend(send_lo, c, MPI_DOUBLE, lo, 1, comm_->cart, &req[3]);
+    MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
+    return;
+  }
+#else
+  (void)axis;
+#endif
+  // One process: both neighbours are this process.
+  std::memcpy(recv_lo, send_hi, sizeof(double) * count);
+  std::memcpy(recv_hi, send_lo, sizeof(double) * count);
+}
+
+void Decomposition::allgather(const double* send, std::size_t count, double* recv) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * count;
+    ++stats_.collectives;
+    MPI_Allgather(send, int(count), MPI_DOUBLE, recv, int(count), MPI_DOUBLE, comm_->cart);
+    return;
+  }
+#endif
+  std::memcpy(recv, send, sizeof(double) * count);
+}
+
+void Decomposition::gather(const double* send, std::size_t count, double* recv) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * count;
+    ++stats_.collectives;
+    MPI_Gather(send, int(count), MPI_DOUBLE, recv, int(count), MPI_DOUBLE, 0, comm_->cart);
+    return;
+  }
+#endif
+  std::memcpy(recv, send, sizeof(double) * count);
+}
+
+void Decomposition::broadcast(double* values, int count) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) MPI_Bcast(values, count, MPI_DOUBLE, 0, comm_->cart);
+#else
+  (void)values;
+  (void)count;
+#endif
+}
+
+void Decomposition::abort_all(int code) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
+ParallelSession::ParallelSession(int* argc, char*** argv) {
+#ifdef CMCSURF_HAVE_MPI
+  // Only the main thread calls MPI (OpenMP regions never do).
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+#else
+  (void)argc;
+  (void)argv;
+#endif
+}
+
+ParallelSession::~ParallelSession() {
+#ifdef CMCSURF_HAVE_MPI
+  MPI_Finalize();
+#endif
+}
+
+}  // namespace cmcsurf
