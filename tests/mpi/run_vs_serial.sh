@@ -48,6 +48,24 @@ PY
 "$bin" mesh --from "$work/mpi" --out "$work/mpi.stl" --quiet || { echo "FAIL: mesh of mpi field"; fail=1; }
 test -s "$work/mpi.stl" || { echo "FAIL: no mesh"; fail=1; }
 
+# The fast mode's per-step algorithms (extrapolated guesses, adaptive dt, relative V-cycle
+# stop) on blocks: the same steps and result as on one process.
+fast=(--extrapolate --dt-max-factor 8 --mg-rtol 1e-2)
+"$bin" "${args[@]}" "${fast[@]}" --out "$work/serial-fast" || { echo "FAIL: serial fast run"; exit 1; }
+mpi "${args[@]}" "${fast[@]}" --out "$work/mpi-fast" >"$work/stdout" 2>"$work/stderr" \
+  || { echo "FAIL: mpirun -np $np fast run"; cat "$work/stderr"; exit 1; }
+python3 - "$work/serial-fast/report.json" "$work/mpi-fast/report.json" <<'PY' || fail=1
+import json, sys
+s, m = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+bad = [k for k in ("steps", "vcycles", "dt_max") if s[k] != m[k]]
+for key in ("area", "volume_fraction", "mass"):
+    rel = abs(s[key] - m[key]) / max(abs(s[key]), 1e-12)
+    print(f"fast {key}: rel {rel:.2e}")
+    if rel > 1e-10: bad.append(key)
+for b in bad: print("FAIL: fast mode under mpirun differs in", b)
+sys.exit(1 if bad else 0)
+PY
+
 # Refused under mpirun: lexicographic ordering, commands other than run; exit 2, nothing written.
 expect_usage() {
   local name="$1" opt="$2"; shift 2
