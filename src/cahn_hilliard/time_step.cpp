@@ -92,7 +92,6 @@ StepStats ChStepper::step(Field& phi) {
       const double e = solver_.residual_norm(op_);
       if (std::isfinite(e) && e < stats.residual) {
         stats.residual = e;
-        stats.extrapolated = true;
       } else {  // a worse guess (the flow turned): back to phi^n, nu^n
         copy_interior(phi, u[0]);
         copy_interior(prev_nu_, u[1]);
@@ -104,7 +103,6 @@ StepStats ChStepper::step(Field& phi) {
     prev_dt_ = p.dt;
     history_valid_ = true;
   }
-  stats.start_residual = stats.residual;
   while (stats.residual > target && stats.vcycles < options_.max_vcycles) {
     solver_.vcycle(op_);
     ++stats.vcycles;

@@ -30,8 +30,6 @@ struct StepStats {
   int vcycles = 0;
   double residual = 0.0;      // defect norm after the last V-cycle
   double first_residual = 0.0;  // defect of phi^n as the guess (the step's change)
-  double start_residual = 0.0;  // defect the V-cycles started from (extrapolated or not)
-  bool extrapolated = false;
   bool converged = false;
 };
 
@@ -59,8 +57,6 @@ class ChStepper {
     nu_valid_ = false;
     history_valid_ = false;
   }
-  // Forget phi^{n-1} (call after phi was changed outside the time loop).
-  void reset_history() { history_valid_ = false; }
   const Field& nu() const { return solver_.solution()[1]; }
   FasSolver& solver() { return solver_; }
 
