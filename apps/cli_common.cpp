@@ -19,18 +19,21 @@ namespace cmcsurf::cli {
 
 std::string version_string() { return CMCSURF_VERSION; }
 
-RunFolder write_run_folder(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
-                           int threads, bool float32, const nlohmann::json& extra,
-                           const std::function<void()>& extra_files) {
-  RunFolder out;
-  out.report = run_report(p, r, threads);
-  out.quality = measure_cmc_quality(r.phi, p);  // docs/families.md
-  out.report.update(quality_json(out.quality, r.final.area));
-  if (extra.is_object()) out.report.update(extra);
+std::string plus_minus(double error) {
+  return std::isfinite(error) ? fmt::format(" +- {:.1e}", error) : std::string();
+}
+
+nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
+                                const RunResult& r, const CmcQuality& quality, int threads,
+                                bool float32, const nlohmann::json& extra,
+                                const std::function<void()>& extra_files) {
+  nlohmann::json report = run_report(p, r, threads);
+  report.update(quality_json(quality, r.final.area));
+  if (extra.is_object()) report.update(extra);
   ensure_directory(dir);
-  write_curvature_histogram_csv(dir / "curvature_histogram.csv", out.quality);
+  write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
-  const nlohmann::json& target = out.report["volume_fraction_target"];
+  const nlohmann::json& target = report["volume_fraction_target"];
   write_vti(dir / "field.vti", {{"phi", &r.phi}}, float32,
             {{"surface", p.surface},
              {"volume_fraction_target", target.is_null() ? "none" : fmt::format("{}", target.get<double>())},
@@ -40,8 +43,8 @@ RunFolder write_run_folder(const std::filesystem::path& dir, const RunParams& p,
              {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
              {"version", version_string()}});
   if (extra_files) extra_files();
-  write_json_atomic(dir / "report.json", out.report);
-  return out;
+  write_json_atomic(dir / "report.json", report);
+  return report;
 }
 
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface) {

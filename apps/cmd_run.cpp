@@ -108,11 +108,12 @@ CommandFn add_run_command(CLI::App& root) {
                                     {"collectives", c.collectives},
                                     {"comm_seconds", c.seconds}};
             }
+            const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
             const nlohmann::json report =
-                write_run_folder(dir, p, r, threads, cmd->float32, ranks, [&] {
+                write_run_folder(dir, p, r, quality, threads, cmd->float32, ranks, [&] {
                   if (!cmd->mesh_format.empty())
                     write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
-                }).report;
+                });
 
             if (!cmd->quiet) {
               std::cerr << fmt::format(
@@ -122,10 +123,16 @@ CommandFn add_run_command(CLI::App& root) {
                   r.vcycles, report["vcycles_per_step"].get<double>(),
                   1e3 * report["seconds_per_vcycle"].get<double>(), r.wall_seconds);
               std::cerr << fmt::format(
-                  "area {:.6f}  mean curvature {:.5f} (from mu {:.5f})  volume fraction {:.5f}  "
-                  "mass {:.6f}\nwrote {}/report.json, history.csv, field.vti\n",
-                  r.final.area, r.final.mean_curvature, r.final.mean_curvature_mu,
-                  r.final.volume_fraction, r.final.mass, dir.string());
+                  "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction "
+                  "{:.5f}\nlocal H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  "
+                  "(measures {:.2f} s, quality {:.2f} s)\nwrote {}/report.json, history.csv, "
+                  "field.vti\n",
+                  r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
+                  plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
+                  r.final.volume_fraction, quality.relaxed.std,
+                  quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
+                  r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds,
+                  quality.seconds, dir.string());
             }
             if (r.unconverged_steps > 0)
               std::cerr << fmt::format(

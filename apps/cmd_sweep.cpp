@@ -140,25 +140,22 @@ CommandFn add_sweep_command(CLI::App& root) {
             };
             auto done = [&](const SweepMember& m, RunResult& r) {
               const RunParams& p = m.params;
-              const RunFolder folder = write_run_folder(
-                  dir / m.name, p, r, threads, cmd->float32,
+              const CmcQuality quality = measure_cmc_quality(r.phi, p);
+              const nlohmann::json report = write_run_folder(
+                  dir / m.name, p, r, quality, threads, cmd->float32,
                   {{"volume_fraction_target", m.alpha},  // also for continued members
                    {"member", m.name},
                    {"started_from", m.started_from}});
-              const nlohmann::json& report = folder.report;
-              const CmcQuality& quality = folder.quality;
               reports.push_back(report);
               write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
               progress.finish();
               if (!cmd->quiet)
                 std::cerr << fmt::format(
-                    "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (std {:.3f}) nodal area excess "
-                    "{:+.2f}% (iso-surface {:+.2f}%){}\n",
-                    m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area, r.final.mean_curvature,
-                    quality.relaxed.std,
+                    "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, "
+                    "nodal {:.3g}) nodal area excess {:+.3f}%{}\n",
+                    m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area,
+                    r.final.mean_curvature, quality.relaxed.std, quality.nodal.std,
                     quality.has_nodal ? 100.0 * (quality.nodal_area / r.final.area - 1.0) : 0.0,
-                    quality.has_nodal ? 100.0 * (quality.nodal_area_iso / quality.area_iso - 1.0)
-                                      : 0.0,
                     r.converged ? "" : " NOT converged");
             };
             run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });

@@ -4,7 +4,9 @@
 usage: plot_families.py SWEEP_CSV OUT_PREFIX   -> OUT_PREFIX.png and OUT_PREFIX.svg
 
 (a) mean curvature vs volume fraction, (b) area per unit cell vs volume fraction, one curve per
-surface family; (b) also shows the spheres-cylinders-planes profile I_scp(V) of Section 2.3 at
+surface family: the surface's own values (report keys `area`, `mean_curvature`, the sharp
+estimators), with the diffuse layer's (Appendix B: `area_diffuse`) dotted beside them where the
+table has them; (b) also shows the spheres-cylinders-planes profile I_scp(V) of Section 2.3 at
 V = min(alpha, 1 - alpha) (the smaller phase: I_scp is defined for the enclosed volume V in
 (0, pi/6), and the enclosing surface of a phase is also that of its complement), and the
 literature areas of the P, D and G minimal surfaces at alpha = 1/2.
@@ -35,7 +37,7 @@ def read_rows(path):
     for r in rows:
         try:
             a = float(r["volume_fraction_target"])
-            iso = float(r["area_iso"]) if r.get("area_iso") else float("nan")
+            iso = float(r["area_diffuse"]) if r.get("area_diffuse") else float("nan")
             families.setdefault(r["surface"], []).append(
                 (a, float(r["mean_curvature"]), float(r["area"]), iso))
         except (KeyError, ValueError):
@@ -72,9 +74,9 @@ def main():
         ax_h.plot(a, [p[1] for p in pts], marker=markers[i % len(markers)], ms=4, label=label)
         line, = ax_a.plot(a, [p[2] for p in pts], marker=markers[i % len(markers)], ms=4,
                           label=label)
-        if any(p[3] == p[3] for p in pts):  # iso-surface area, where the table has it
+        if any(p[3] == p[3] for p in pts):  # diffuse-layer area, where the table has it
             ax_a.plot(a, [p[3] for p in pts], ls=":", lw=1, color=line.get_color(),
-                      label=f"{label} (iso-surface area)")
+                      label=f"{label} (diffuse layer, Appendix B)")
         if name in MINIMAL_AREA:
             ax_a.plot([0.5], [MINIMAL_AREA[name]], marker="x", color="k", ms=7, ls="none",
                       label="minimal surface (literature)" if i == 0 or not any(
@@ -90,7 +92,7 @@ def main():
     ax_h.set_ylabel("mean curvature H (unit cell = 1)")
     ax_h.set_title("(a) mean curvature", loc="left")
     ax_a.set_xlabel(r"volume fraction $\alpha$")
-    ax_a.set_ylabel("area per unit cell (diffuse, Appendix B)")
+    ax_a.set_ylabel("area per unit cell")
     ax_a.set_title("(b) surface area", loc="left")
     for ax in (ax_h, ax_a):
         ax.grid(True, lw=0.3, alpha=0.5)

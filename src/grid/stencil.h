@@ -15,4 +15,15 @@ inline double laplacian(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz, d
   return (neighbour_sum(p, sy, sz) - 6.0 * p[0]) * inv_h2;
 }
 
+// 12h times the fourth-order central difference of Appendix B along stride s.
+inline double diff4_scaled(const double* p, std::ptrdiff_t s) {
+  return (p[-2 * s] - p[2 * s]) + 8.0 * (p[s] - p[-s]);
+}
+
+// (12h)^2 |grad_d phi|^2 at p with the fourth-order gradient of Appendix B.
+inline double grad4_sq_scaled(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz) {
+  const double gx = diff4_scaled(p, 1), gy = diff4_scaled(p, sy), gz = diff4_scaled(p, sz);
+  return gx * gx + gy * gy + gz * gz;
+}
+
 }  // namespace cmcsurf

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -47,19 +48,31 @@ nlohmann::json params_json(const RunParams& p) {
 }
 
 nlohmann::json measures_json(const Measures& m) {
-  return {{"area", m.area},
-          {"mean_curvature", m.mean_curvature},
-          {"mean_curvature_mu", m.mean_curvature_mu},
-          {"total_mean_curvature", m.total_mean_curvature},
-          {"volume_fraction", m.volume_fraction},
-          {"volume_fraction_cells", m.volume_fraction_cells},
-          {"mass", m.mass},
-          {"energy", m.energy}};
+  // NaN (an error estimate not computed) is written as null.
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json j;
+  if (m.sharp) {
+    j["area"] = m.area;
+    j["area_error"] = number(m.area_error);
+    j["mean_curvature"] = m.mean_curvature;
+    j["mean_curvature_error"] = number(m.mean_curvature_error);
+    j["total_mean_curvature"] = m.total_mean_curvature;
+  }
+  j["area_diffuse"] = m.area_diffuse;
+  j["mean_curvature_diffuse"] = m.mean_curvature_diffuse;
+  j["total_mean_curvature_diffuse"] = m.total_mean_curvature_diffuse;
+  j["mean_curvature_mu"] = m.mean_curvature_mu;
+  if (m.sharp) j["mean_curvature_mu_gap"] = m.mean_curvature_mu - m.mean_curvature;
+  j["volume_fraction"] = m.volume_fraction;
+  j["volume_fraction_cells"] = m.volume_fraction_cells;
+  j["mass"] = m.mass;
+  j["energy"] = m.energy;
+  return j;
 }
 
 nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   const SurfaceInfo* info = find_surface(p.surface);
-  const bool nodal = r.bisection.has_value();
+  const bool nodal = is_nodal_surface(p.surface);
   nlohmann::json j;
   j["version"] = CMCSURF_VERSION;
   j["surface"] = p.surface;
@@ -93,7 +106,7 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   j["final_d_area"] = r.history.empty() ? 0.0 : r.history.back().d_area;
   j["final_d_phi"] = r.history.empty() ? 0.0 : r.history.back().d_phi;
   j["initial"] = measures_json(r.initial);
-  if (nodal) {
+  if (r.bisection) {
     j["bisection"] = {{"beta", r.bisection->beta},
                       {"v_ave", r.bisection->v_ave},
                       {"iterations", r.bisection->iterations},
@@ -121,13 +134,23 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   j["balanced"] = info ? nlohmann::json(info->balanced) : nlohmann::json();
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;
+  j["measure_seconds"] = r.measure_seconds;
   j["threads"] = threads;
   j["parameters"] = params_json(p);
   j["conventions"] = {
       {"phase_1", "phi > 1/2"},
-      {"mean_curvature", "Appendix B estimator, positive when phase 1 is convex (1/r for a ball)"},
+      {"area", "area of the phi = 1/2 surface: the zero set of the piecewise-linear interpolant "
+               "of psi = atanh(2 phi - 1), second order in h (docs/method.md, sharp measures)"},
+      {"mean_curvature",
+       "mean curvature of the phi = 1/2 surface, area-weighted average of the local "
+       "H = -div(grad psi/|grad psi|)/2 on it; positive when phase 1 is convex (1/r for a ball)"},
+      {"area_error", "Richardson estimate |A_h - A_2h|/3 with A_2h from psi averaged to N/2"},
+      {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
+      {"mean_curvature_diffuse",
+       "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},
       {"mean_curvature_mu", "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
                             "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
+      {"mean_curvature_mu_gap", "mean_curvature_mu - mean_curvature"},
       {"volume_fraction",
        "volume fraction of phi > 1/2: the 1/2 iso-surface of the piecewise-linear interpolant of "
        "the cell-centre values with its O(h^2) curvature bias removed (docs/volume.md)"},
@@ -151,23 +174,27 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
 nlohmann::json quality_json(const CmcQuality& q, double relaxed_area) {
   const nlohmann::json null;
   auto nodal = [&](double v) { return q.has_nodal ? nlohmann::json(v) : null; };
-  auto excess = [&](double nodal_a, double relaxed_a) {
-    return q.has_nodal && relaxed_a > 0.0 ? nlohmann::json(nodal_a / relaxed_a - 1.0) : null;
-  };
+  const nlohmann::json excess =
+      q.has_nodal && relaxed_area > 0.0 ? nlohmann::json(q.nodal_area / relaxed_area - 1.0) : null;
   return {{"mean_curvature_local_mean", q.relaxed.mean},
           {"mean_curvature_std", q.relaxed.std},
-          {"area_iso", q.area_iso},
+          {"area_iso", relaxed_area},  // alias of area (both are the sharp estimate)
           {"nodal_level", nodal(q.nodal_level)},
           {"nodal_volume_fraction", nodal(q.nodal_volume_fraction)},
           {"nodal_area", nodal(q.nodal_area)},
-          {"nodal_area_iso", nodal(q.nodal_area_iso)},
-          {"nodal_area_tanh", nodal(q.nodal_area_tanh)},
-          {"nodal_relax_steps", q.has_nodal ? nlohmann::json(q.nodal_relax_steps) : null},
+          {"nodal_area_iso", nodal(q.nodal_area)},  // alias of nodal_area
+          {"nodal_area_diffuse", nodal(q.nodal_area_diffuse)},
+          {"nodal_area_tanh", nodal(q.nodal_area_diffuse)},  // its earlier name
+          {"nodal_relax_steps", q.has_nodal ? nlohmann::json(0) : null},  // no longer relaxed
           {"nodal_mean_curvature", nodal(q.nodal_mean_curvature)},
+          {"nodal_mean_curvature_diffuse", nodal(q.nodal_mean_curvature_diffuse)},
           {"nodal_mean_curvature_local_mean", nodal(q.nodal.mean)},
           {"nodal_mean_curvature_std", nodal(q.nodal.std)},
-          {"nodal_area_excess", excess(q.nodal_area, relaxed_area)},
-          {"nodal_area_excess_iso", excess(q.nodal_area_iso, q.area_iso)}};
+          {"nodal_std_ratio", q.has_nodal && q.relaxed.std > 0.0
+                                  ? nlohmann::json(q.nodal.std / q.relaxed.std) : null},
+          {"nodal_area_excess", excess},
+          {"nodal_area_excess_iso", excess},  // alias of nodal_area_excess
+          {"quality_seconds", q.seconds}};
 }
 
 void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q) {

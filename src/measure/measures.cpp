@@ -27,19 +27,6 @@ void require_ghost(const Field& phi, int needed, const char* who) {
                                 ", got " + std::to_string(phi.ghost()));
 }
 
-// 12h times the fourth-order central difference along stride s (Appendix B).
-inline double diff4_scaled(const double* p, std::ptrdiff_t s) {
-  return (p[-2 * s] - p[2 * s]) + 8.0 * (p[s] - p[-s]);
-}
-
-// (12h)^2 |grad_d phi|^2 at p.
-inline double grad4_sq_scaled(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz) {
-  const double gx = diff4_scaled(p, 1);
-  const double gy = diff4_scaled(p, sy);
-  const double gz = diff4_scaled(p, sz);
-  return gx * gx + gy * gy + gz * gz;
-}
-
 // Sum over interior cells of term(p), p pointing at the cell in phi's padded storage:
 // OpenMP over k planes, unit-stride SIMD loop over i.
 // The sum is over the whole grid: per-process partial sums are added over the processes.
@@ -305,8 +292,9 @@ double mean_curvature_ref(const Field& phi) {
   return -0.5 * sum_kw / sum_w;
 }
 
-// Section 2.5 with mu = 6 sqrt2 nu / eps: H ~ mu / 3 = 2 sqrt2 nu / eps, averaged with weight
-// |grad_d phi|^2, nu = W'(phi) - eps^2 Lap_d phi (7-point Laplacian of Section 3).
+// Section 2.5 with mu = 6 sqrt2 nu / eps and the Gibbs-Thomson factor H = mu/2 = 3 sqrt2 nu / eps
+// (not the paper's mu/3, see measures.h), averaged with weight |grad_d phi|^2,
+// nu = W'(phi) - eps^2 Lap_d phi (7-point Laplacian of Section 3).
 double mean_curvature_mu(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "mean_curvature_mu");
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
@@ -321,6 +309,41 @@ double mean_curvature_mu(const Field& phi, double epsilon) {
   });
   if (sum_w == 0.0) return 0.0;
   return 3.0 * std::numbers::sqrt2 / epsilon * sum_nw / sum_w;  // H = mu/2
+}
+
+double mean_curvature_mu_ref(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "mean_curvature_mu_ref");
+  const double h = phi.h();
+  double sum_nw = 0.0, sum_w = 0.0;
+  for_each_cell(phi, [&](int i, int j, int k) {
+    const double lap = (phi(i + 1, j, k) + phi(i - 1, j, k) + phi(i, j + 1, k) + phi(i, j - 1, k) +
+                        phi(i, j, k + 1) + phi(i, j, k - 1) - 6.0 * phi(i, j, k)) /
+                       (h * h);
+    const double v = phi(i, j, k);
+    const double nu = (v * v * v - 1.5 * v * v + 0.5 * v) - epsilon * epsilon * lap;
+    const double w = grad4_squared_ref(phi, i, j, k);
+    sum_nw += nu * w;
+    sum_w += w;
+  });
+  double sums[2] = {sum_nw, sum_w};
+  phi.sum_over_ranks(sums, 2);
+  if (sums[1] == 0.0) return 0.0;
+  return 3.0 * std::sqrt(2.0) / epsilon * sums[0] / sums[1];
+}
+
+double energy_ref(const Field& phi, double epsilon) {
+  require_ghost(phi, 1, "energy_ref");
+  const double h = phi.h();
+  double sum = 0.0;
+  for_each_cell(phi, [&](int i, int j, int k) {
+    const double v = phi(i, j, k);
+    const double dx = (phi(i + 1, j, k) - v) / h, dy = (phi(i, j + 1, k) - v) / h,
+                 dz = (phi(i, j, k + 1) - v) / h;
+    const double w = 0.25 * v * v * (1.0 - v) * (1.0 - v);
+    sum += 6.0 * std::sqrt(2.0) * (w / epsilon + 0.5 * epsilon * (dx * dx + dy * dy + dz * dz)) *
+           h * h * h;
+  });
+  return phi.sum_over_ranks(sum);
 }
 
 }  // namespace cmcsurf

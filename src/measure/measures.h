@@ -29,13 +29,16 @@ double l2_diff(const Field& a, const Field& b);
 // with |grad_h phi|^2 the sum of squared face differences / h^2, the gradient that matches the
 // 7-point Laplacian, so that the convex-splitting scheme provably does not increase it.
 double energy(const Field& phi, double epsilon);
+double energy_ref(const Field& phi, double epsilon);  // plain loop twin
 
 // Area A(phi) = sum 6 sqrt2 eps |grad_d phi|^2 h^3 with the fourth-order central gradient of
-// Appendix B. Needs ghost >= 2.
+// Appendix B: the diffuse layer's area (report key area_diffuse; the surface's own area is
+// measure/sharp_surface.h). Needs ghost >= 2.
 double area(const Field& phi, double epsilon);
 double area_ref(const Field& phi, double epsilon);
 
-// Surface-averaged mean curvature of Appendix B: vertex-centred normals m = grad phi from the
+// Surface-averaged mean curvature of Appendix B (report key mean_curvature_diffuse; the
+// surface's own is measure/sharp_surface.h): vertex-centred normals m = grad phi from the
 // eight cells around each vertex, kappa = div_d(m/|m|) at cell centres, and
 // H = -1/2 sum(kappa w) / sum(w) with w = |grad_d phi|^2 (fourth-order gradient).
 // Sign: H = 1/r > 0 for a sphere of phase 1 (phi > 1/2 inside) of radius r, as in Section 2.5.
@@ -53,5 +56,6 @@ double mean_curvature_ref(const Field& phi);  // plain loop twin of mean_curvatu
 // |grad_d phi|^2-weighted average over the grid. Away from equilibrium the factor depends on
 // the profile: for the tanh profile of a surface it returns (6/5) H. Needs ghost >= 2.
 double mean_curvature_mu(const Field& phi, double epsilon);
+double mean_curvature_mu_ref(const Field& phi, double epsilon);  // plain loop twin
 
 }  // namespace cmcsurf

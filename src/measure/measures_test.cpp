@@ -83,9 +83,23 @@ TEST(Measures, AreaMatchesReferenceOnRandomField) {
 TEST(Measures, MeanCurvatureMatchesReferenceOnRandomField) {
   // kappa sums terms of size 1/h with cancellation; compare on the scale 1/h, not |H|.
   for (unsigned seed : {3u, 11u}) {
-    const Field phi = random_field(24, seed, 0.05);
+    const Field phi = random_field(kParallelMinN + 8, seed, 0.05);
     EXPECT_NEAR(mean_curvature(phi), mean_curvature_ref(phi), 1e-12 * phi.n());
   }
+}
+
+TEST(Measures, MeanCurvatureMuMatchesReferenceOnRandomField) {
+  const Field phi = random_field(kParallelMinN + 8, 5, 0.05);
+  const double h = mean_curvature_mu(phi, 0.02), h_ref = mean_curvature_mu_ref(phi, 0.02);
+  EXPECT_GT(std::abs(h_ref), 1e-3);
+  EXPECT_NEAR(h, h_ref, 1e-10 * std::abs(h_ref));
+}
+
+TEST(Measures, EnergyMatchesReferenceOnRandomField) {
+  const Field phi = random_field(kParallelMinN + 8, 9, 0.1);
+  const double e = energy(phi, 0.01), e_ref = energy_ref(phi, 0.01);
+  EXPECT_GT(e_ref, 0.0);
+  EXPECT_NEAR(e, e_ref, 1e-12 * e_ref);
 }
 
 TEST(Measures, StencilsNeedTwoGhostLayers) {

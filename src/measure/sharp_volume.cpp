@@ -3,14 +3,11 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "grid/kuhn.h"
+
 namespace cmcsurf {
 
 namespace {
-
-// Corner c of a dual cell is offset (c & 1, c >> 1 & 1, c >> 2 & 1). The Kuhn split: one
-// tetrahedron per axis order, along the path 0 -> e_a -> e_a + e_b -> 7.
-constexpr int kKuhnTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
-                                 {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
 // Sum over the 6 tetrahedra of the fraction above 1/2, for the 8 corner values.
 double cube_sixfold_fraction(const double v[8]) {

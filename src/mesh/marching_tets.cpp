@@ -6,16 +6,14 @@
 #include <stdexcept>
 #include <vector>
 
+#include "grid/kuhn.h"
+
 namespace cmcsurf {
 
 namespace {
 
-// Cube corner c = (x, y, z) bits, index x + 2y + 4z.
-constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
-                               {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
-// Kuhn tetrahedra: corner 0 -> +e_a -> +e_b -> corner 7 for each axis order (a, b, c).
-constexpr int kTet[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
-                            {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+constexpr auto& kCorner = kCubeCorner;
+constexpr auto& kTet = kKuhnTets;
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 

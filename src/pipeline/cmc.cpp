@@ -9,6 +9,7 @@
 
 #include "measure/measures.h"
 #include "multigrid/fas.h"
+#include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 
@@ -26,17 +27,30 @@ double seconds_since(Clock::time_point t0) {
 
 const char* constraint_name(Constraint c) { return c == Constraint::kVolume ? "volume" : "mass"; }
 
-Measures measure_field(Field& phi, double epsilon) {
+Measures measure_field_diffuse(Field& phi, double epsilon) {
   phi.exchange_halo();
   Measures m;
-  m.area = area(phi, epsilon);
-  m.mean_curvature = mean_curvature(phi);
+  m.area_diffuse = area(phi, epsilon);
+  m.mean_curvature_diffuse = mean_curvature(phi);
+  m.total_mean_curvature_diffuse = m.mean_curvature_diffuse * m.area_diffuse;
   m.mean_curvature_mu = mean_curvature_mu(phi, epsilon);
-  m.total_mean_curvature = m.mean_curvature * m.area;
   m.volume_fraction = sharp_volume_fraction(phi);
   m.volume_fraction_cells = volume_fraction(phi);
   m.mass = mass(phi);
   m.energy = energy(phi, epsilon);
+  return m;
+}
+
+Measures measure_field(Field& phi, double epsilon) {
+  Measures m = measure_field_diffuse(phi, epsilon);
+  const SharpMeasures s = sharp_measures(phi);
+  m.area = s.area;
+  m.area_error = s.area_error;
+  m.mean_curvature = s.mean_curvature;
+  m.mean_curvature_error = s.mean_curvature_error;
+  m.mean_curvature_std = s.mean_curvature_std;
+  m.total_mean_curvature = s.mean_curvature * s.area;
+  m.sharp = true;
   return m;
 }
 
@@ -210,7 +224,7 @@ class Evolution {
         break;
       }
     }
-    result_.final = measure_field(result_.phi, params_.epsilon);
+    result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
     return taken;
   }
@@ -264,6 +278,19 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
 
 }  // namespace
 
+namespace {
+
+// The sharp measures of the final field: once per run, after every stage.
+void measure_final(RunResult& r, const RunParams& params) {
+  const auto t0 = Clock::now();
+  r.final = measure_field(r.phi, params.epsilon);
+  r.measure_seconds = seconds_since(t0);
+}
+
+RunResult run_cmc_stages(const RunParams& params, const ProgressFn& progress);
+
+}  // namespace
+
 RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress) {
   RunResult result;
   result.phi = Field(params.grid, 2, params.decomposition);
@@ -271,6 +298,21 @@ RunResult relax_field(const Field& phi0, const RunParams& params, const Progress
   result.initial = measure_field(result.phi, params.epsilon);
   Evolution evolution(params, progress, result);
   evolution.relax();
+  measure_final(result, params);
+  return result;
+}
+
+RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
+                                   const ProgressFn& progress) {
+  RunResult result;
+  result.phi = Field(params.grid, 2, params.decomposition);
+  copy_interior(phi0, result.phi);
+  result.initial = measure_field(result.phi, params.epsilon);
+  Evolution evolution(params, progress, result);
+  evolution.relax();
+  if (params.constrain == Constraint::kVolume && is_nodal_surface(params.surface))
+    constrain_volume(evolution, params, result);
+  measure_final(result, params);
   return result;
 }
 
@@ -283,7 +325,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progres
   RunParams coarse_params = params;
   coarse_params.grid = params.grid / 2;
   coarse_params.coarse_levels = params.coarse_levels - 1;
-  RunResult coarse = run_cmc(coarse_params, progress);
+  RunResult coarse = run_cmc_stages(coarse_params, progress);
   coarse.phi.exchange_halo();
 
   RunResult result;
@@ -332,6 +374,14 @@ void prolongate_trilinear(const Field& coarse, Field& fine) {
 }
 
 RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
+  RunResult result = run_cmc_stages(params, progress);
+  measure_final(result, params);
+  return result;
+}
+
+namespace {
+
+RunResult run_cmc_stages(const RunParams& params, const ProgressFn& progress) {
   InitialFieldParams init;
   init.surface = params.surface;
   init.epsilon = params.epsilon;
@@ -339,8 +389,14 @@ RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   init.seed = params.seed;
   init.noise_amplitude = params.noise_amplitude;
   const auto& d = params.decomposition;
-  if (!is_nodal_surface(params.surface))
-    return relax_field(make_initial_field(init, params.grid, 2, d), params, progress);
+  if (!is_nodal_surface(params.surface)) {
+    RunResult result;
+    result.phi = make_initial_field(init, params.grid, 2, d);
+    result.initial = measure_field(result.phi, params.epsilon);
+    Evolution evolution(params, progress, result);
+    evolution.relax();
+    return result;
+  }
   if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
       (!d || d->splits(params.grid / 2)))
     return run_cmc_from_coarse(params, progress);
@@ -367,5 +423,7 @@ RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
   if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
   return result;
 }
+
+}  // namespace
 
 }  // namespace cmcsurf

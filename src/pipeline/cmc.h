@@ -62,19 +62,31 @@ struct RunParams {
   double dt() const { return dt_factor * h(); }
 };
 
-// The measures reported for a field (Appendix B, Section 2.5).
+// The measures reported for a field. area and mean_curvature are the surface's own (the
+// sharp estimators of measure/sharp_surface.h); the *_diffuse ones are Appendix B's averages
+// over the diffuse layer, in which the paper states its tables.
 struct Measures {
   double area = 0.0;
+  double area_error = 0.0;  // Richardson estimate; NaN where not computed (decomposed blocks)
   double mean_curvature = 0.0;
+  double mean_curvature_error = 0.0;
+  double mean_curvature_std = 0.0;     // spread of the local H over the surface
+  double total_mean_curvature = 0.0;  // mean_curvature * area
+  double area_diffuse = 0.0;
+  double mean_curvature_diffuse = 0.0;
+  double total_mean_curvature_diffuse = 0.0;  // as in Table 1
   double mean_curvature_mu = 0.0;
-  double total_mean_curvature = 0.0;  // mean_curvature * area, as in Table 1
   double volume_fraction = 0.0;        // sharp: measure/sharp_volume.h
   double volume_fraction_cells = 0.0;  // fraction of cells with phi > 1/2
   double mass = 0.0;
   double energy = 0.0;
+  bool sharp = false;  // whether the sharp measures were taken (else they are 0)
 };
-// phi needs ghost >= 2; its halo is refreshed here.
+// Every measure, the sharp ones included (one extra pass over the grid and one over the
+// surface). phi needs ghost >= 2; its halo is refreshed here.
 Measures measure_field(Field& phi, double epsilon);
+// The measures a relaxation needs as it goes: all but the sharp ones.
+Measures measure_field_diffuse(Field& phi, double epsilon);
 
 struct StepRecord {
   int step = 0;           // counts all time steps, pre-relaxation included
@@ -128,8 +140,9 @@ struct RunResult {
   double volume_seconds = 0.0;  // wall time of the corrections
   Measures initial;         // phi^0 (after truncation for nodal surfaces), at epsilon
   Measures final;
-  double wall_seconds = 0.0;
+  double wall_seconds = 0.0;    // the solve: steps 1-6, corrections and continuation
   double solver_seconds = 0.0;  // inside the V-cycles
+  double measure_seconds = 0.0;  // the sharp measures of the final field
 };
 
 // Called after every time step with the step's record.
@@ -148,6 +161,13 @@ void shift_mean(Field& phi, double alpha);
 
 // Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
 RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress = {});
+
+// Steps 6 and after from a given start (copied): relaxes at params.epsilon and, for a nodal
+// surface with Constraint::kVolume, corrects the mass until the sharp volume fraction is
+// params.volume_fraction (the same secant iteration as run_cmc). Sweeps continue a family
+// from its previous member with it.
+RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
+                                   const ProgressFn& progress = {});
 
 // Cell-centred trilinear interpolation from n to 2n (weights 3/4, 1/4 per axis; keeps the mean).
 void prolongate_trilinear(const Field& coarse, Field& fine);

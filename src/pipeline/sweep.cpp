@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -10,6 +11,9 @@
 
 #include "io/csv.h"
 #include "measure/measures.h"
+#include "measure/sharp_surface.h"
+#include "measure/sharp_volume.h"
+#include "surfaces/nodal_level.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -131,61 +135,52 @@ std::string member_name(const std::string& surface, int surface_index, double al
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
                              const RunParams& params, const ProgressFn& progress) {
   const double alpha = params.volume_fraction;
-  Field phi0(params.grid, 2);
+  Field phi0(params.grid, 2, params.decomposition);
   copy_interior(neighbour, phi0);
   if (params.constrain == Constraint::kMass) {
-    shift_mean(phi0, alpha);
-    return relax_field(phi0, params, progress);
+    shift_mean(phi0, alpha);  // step 5
+  } else {
+    // A sharp interface between the bulk phases moves by the added mass: shift by the change
+    // of alpha, then let the volume constraint's secant iteration finish the job.
+    add_constant(phi0, alpha - neighbour_alpha);
+    phi0.exchange_halo();
   }
-  // Volume constraint: shift by the change of alpha, relax at that mass, then correct the mass
-  // by the remaining volume error (dV/dmass ~ 1) and relax again.
-  add_constant(phi0, alpha - neighbour_alpha);
-  phi0.exchange_halo();
-  RunResult r = relax_field(phi0, params, progress);
-  for (int c = 0; c < params.max_volume_corrections &&
-                  std::abs(r.final.volume_fraction - alpha) > params.volume_tol;
-       ++c) {
-    Field next(params.grid, 2);
-    copy_interior(r.phi, next);
-    add_constant(next, alpha - r.final.volume_fraction);
-    next.exchange_halo();
-    RunResult more = relax_field(next, params, progress);
-    for (StepRecord& s : more.history) {
-      s.step += int(r.history.size());
-      s.stage = "volume";
-    }
-    r.history.insert(r.history.end(), more.history.begin(), more.history.end());
-    r.phi = std::move(more.phi);
-    r.steps += more.steps;
-    r.volume_steps += more.steps;
-    r.vcycles += more.vcycles;
-    r.unconverged_steps += more.unconverged_steps;
-    r.converged = more.converged;
-    r.stop_reason = more.stop_reason;
-    r.final = more.final;
-    r.wall_seconds += more.wall_seconds;
-    r.solver_seconds += more.solver_seconds;
-  }
-  return r;
+  return relax_to_volume_fraction(phi0, params, progress);
 }
 
-CmcQuality measure_cmc_quality(Field& relaxed, const RunParams& params, int nodal_relax_steps) {
-  if (!is_nodal_surface(params.surface))
-    return compare_with_nodal(relaxed, nullptr, 0.0, params.epsilon);
-  // Same fraction of cells with phi > 1/2 as the relaxed field (alpha up to the constraint).
-  const double v = volume_fraction(relaxed);
-  NodalPhaseField nodal = nodal_phase_field(
-      params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid, params.epsilon);
-  CmcQuality q = compare_with_nodal(relaxed, &nodal.phi, nodal.level, params.epsilon);
-  if (nodal_relax_steps > 0) {  // diffuse area after the profile has relaxed
-    RunParams short_relax = params;
-    short_relax.max_steps = nodal_relax_steps;
-    short_relax.stop = StopRule::kArea;
-    short_relax.tol = 0.0;  // exactly nodal_relax_steps steps
-    RunResult r = relax_field(nodal.phi, short_relax);
-    q.nodal_area = r.final.area;
-    q.nodal_relax_steps = r.steps;
+CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
+  if (!relaxed.whole())
+    throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
+  const auto t0 = std::chrono::steady_clock::now();
+  CmcQuality q;
+  std::vector<CurvatureSample> relaxed_samples;
+  {
+    Field psi = Field::like(relaxed, 2);
+    tanh_profile_inverse(relaxed, psi);
+    level_set_surface(psi, &relaxed_samples);
   }
+  if (is_nodal_surface(params.surface)) {
+    // The nodal surface with the relaxed surface's sharp volume fraction.
+    Field phi = Field::like(relaxed, 2);
+    copy_interior(relaxed, phi);
+    phi.exchange_halo();
+    const double v = sharp_volume_fraction(phi);
+    const NodalLevelSet nodal = nodal_level_set(
+        params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid);
+    std::vector<CurvatureSample> nodal_samples;
+    const LevelSetSurface s = level_set_surface(nodal_level_function(nodal), &nodal_samples);
+    fill_distributions(q, relaxed_samples, &nodal_samples);
+    q.nodal_level = nodal.level;
+    q.nodal_volume_fraction = nodal.volume_fraction;
+    q.nodal_area = s.area;
+    q.nodal_mean_curvature = s.mean_curvature;
+    Field tanh_phi = nodal_tanh_profile(nodal, params.epsilon);
+    q.nodal_area_diffuse = area(tanh_phi, params.epsilon);
+    q.nodal_mean_curvature_diffuse = mean_curvature(tanh_phi);
+  } else {
+    fill_distributions(q, relaxed_samples, nullptr);
+  }
+  q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return q;
 }
 
@@ -237,10 +232,11 @@ CsvCell json_cell(const nlohmann::json& v) {
 
 std::string sweep_csv(const std::vector<nlohmann::json>& reports) {
   static const std::vector<std::string> kFirst = {
-      "surface", "volume_fraction_target", "volume_fraction", "area", "mean_curvature",
-      "mean_curvature_mu", "mean_curvature_std", "area_iso", "nodal_area", "nodal_area_iso",
-      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_area_excess",
-      "nodal_area_excess_iso"};
+      "surface", "volume_fraction_target", "volume_fraction", "area", "area_error",
+      "mean_curvature", "mean_curvature_error", "mean_curvature_mu", "mean_curvature_std",
+      "area_diffuse", "mean_curvature_diffuse", "area_iso", "nodal_area", "nodal_area_iso",
+      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_std_ratio",
+      "nodal_area_excess", "nodal_area_excess_iso"};
   std::vector<std::string> header;
   std::set<std::string> seen;
   auto add = [&](const std::string& key) {

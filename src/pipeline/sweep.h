@@ -44,19 +44,16 @@ struct SweepMember {
 
 // Continuation start from the neighbour's converged field (at volume fraction neighbour_alpha):
 // with Constraint::kMass shifted to mean alpha (step 5) and relaxed (step 6); with kVolume
-// shifted by alpha - neighbour_alpha, relaxed, then mass-corrected by the remaining volume
-// error and relaxed again until |V - alpha| <= volume_tol (at most max_volume_corrections).
+// shifted by alpha - neighbour_alpha and handed to relax_to_volume_fraction, whose secant
+// iteration on the mass (the one run_cmc uses) brings V to alpha within volume_tol.
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
                              const RunParams& params, const ProgressFn& progress = {});
 
-// CMC quality of a run's final field (docs/families.md): the nodal surface with the same
-// fraction of cells phi > 1/2 as the final field (nodal_phase_field), measured like the final
-// field: iso-surface area and local mean curvature as built; diffuse area (Appendix B) after `nodal_relax_steps` steps at epsilon so
-// that its profile is close to the discrete equilibrium one (the diffuse area of a sampled tanh
-// profile is biased when epsilon is below a few h); the area before relaxing is kept too.
-inline constexpr int kNodalRelaxSteps = 5;
-CmcQuality measure_cmc_quality(Field& relaxed, const RunParams& params,
-                               int nodal_relax_steps = kNodalRelaxSteps);
+// CMC quality of a run's final field (docs/families.md), a pipeline stage after the solve: the
+// local mean curvature over the surface (measure/sharp_surface.h) and, for nodal surfaces, the
+// same of the nodal surface {F = c} at the final field's sharp volume fraction, plus Appendix B's
+// area and mean curvature of that nodal surface's tanh profile at epsilon. Whole grid only.
+CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
 
 // Runs every member, surfaces outermost, fractions in the given order. `starting` is called
 // before a member runs, `done` after (it may keep or write the result; the field is only kept

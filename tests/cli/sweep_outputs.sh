@@ -24,6 +24,8 @@ assert [(r["surface"], float(r["volume_fraction_target"])) for r in rows] == \
 need = ["surface", "volume_fraction_target", "volume_fraction", "area", "mean_curvature",
         "mean_curvature_mu", "mean_curvature_std", "nodal_area", "nodal_mean_curvature",
         "nodal_mean_curvature_std", "nodal_area_excess", "area_iso", "nodal_area_iso",
+        "area_error", "mean_curvature_error", "area_diffuse", "mean_curvature_diffuse",
+        "total_mean_curvature_diffuse", "nodal_std_ratio", "quality_seconds", "measure_seconds",
         "steps", "converged", "wall_seconds", "member", "started_from"]
 missing = [k for k in need if k not in rows[0]]
 assert not missing, f"missing columns {missing}"

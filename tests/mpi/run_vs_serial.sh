@@ -33,7 +33,8 @@ for key in ("steps", "prerelax_steps", "vcycles", "converged"):
     if s[key] != m[key]: bad.append(f"{key}: serial {s[key]} mpi {m[key]}")
 # Red-black smoothing is independent of the decomposition; only the order of the sums over
 # blocks differs, so the results agree to round-off (observed ~1e-14 relative).
-for key in ("area", "volume_fraction", "mass", "energy", "mean_curvature", "area_iso"):
+for key in ("area", "volume_fraction", "mass", "energy", "mean_curvature", "area_iso",
+            "area_diffuse", "mean_curvature_diffuse", "mean_curvature_std"):
     rel = abs(s[key] - m[key]) / max(abs(s[key]), 1e-12)
     print(f"{key}: serial {s[key]!r} mpi {m[key]!r} rel {rel:.2e}")
     if rel > 1e-10: bad.append(f"{key}: relative difference {rel:.2e} > 1e-10")

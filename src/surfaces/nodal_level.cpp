@@ -1,0 +1,108 @@
+#include "surfaces/nodal_level.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "grid/stencil.h"
+#include "measure/sharp_volume.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+namespace {
+
+// Sharp volume fraction of {f > c}: f - c + 1/2 thresholded at 1/2.
+double volume_above(const Field& f, double c, Field& work) {
+  const int n = f.n();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const double* p = &f(0, j, k);
+      double* q = &work(0, j, k);
+      for (int i = 0; i < n; ++i) q[i] = p[i] - c + 0.5;
+    }
+  work.exchange_halo();
+  return sharp_volume_fraction(work);
+}
+
+}  // namespace
+
+NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol) {
+  if (!is_nodal_surface(surface))
+    throw std::invalid_argument("nodal_level_set: '" + surface + "' is not a nodal surface");
+  if (!(alpha > 0.0 && alpha < 1.0))
+    throw std::invalid_argument("nodal_level_set: alpha must be in (0, 1)");
+  InitialFieldParams init;
+  init.surface = surface;
+  NodalLevelSet out;
+  out.f = make_initial_field(init, n, 2);
+  const Field& f = out.f;
+  // First guess: a fraction alpha of the cells has f > c.
+  std::vector<double> values;
+  values.reserve(f.interior_size());
+  for_each_cell(n, [&](int i, int j, int k) { values.push_back(f(i, j, k)); });
+  const long total = long(values.size());
+  const long above = std::clamp(std::lround(alpha * double(total)), 1L, total - 1);
+  std::nth_element(values.begin(), values.begin() + (total - above), values.end());
+  const double hi = values[total - above];
+  const double lo = *std::max_element(values.begin(), values.begin() + (total - above));
+  const double f_min = *std::min_element(values.begin(), values.end());
+  const double f_max = *std::max_element(values.begin() + (total - above), values.end());
+  values = {};
+  // Secant steps on V(c) = alpha; V decreases with c. The first slope is a difference over
+  // a small step of c.
+  Field work(n, 2);
+  double c0 = 0.5 * (lo + hi), v0 = volume_above(f, c0, work);
+  double c1 = c0 + 1e-3 * (f_max - f_min), v1 = volume_above(f, c1, work);
+  for (int it = 0; it < 30 && std::abs(v1 - alpha) > tol; ++it) {
+    const double slope = (v1 - v0) / (c1 - c0);
+    if (!(slope < 0.0) || !std::isfinite(slope)) break;
+    const double c2 = std::clamp(c1 + (alpha - v1) / slope, f_min, f_max);
+    c0 = c1;
+    v0 = v1;
+    c1 = c2;
+    v1 = volume_above(f, c1, work);
+  }
+  if (std::abs(v0 - alpha) < std::abs(v1 - alpha)) {
+    c1 = c0;
+    v1 = v0;
+  }
+  out.level = c1;
+  out.volume_fraction = v1;
+  return out;
+}
+
+Field nodal_level_function(const NodalLevelSet& nodal) {
+  Field psi = Field::like(nodal.f, 2);
+  const int n = psi.n();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) psi(i, j, k) = nodal.f(i, j, k) - nodal.level;
+  psi.exchange_halo();
+  return psi;
+}
+
+Field nodal_tanh_profile(const NodalLevelSet& nodal, double epsilon) {
+  const Field& f = nodal.f;
+  const int n = f.n();
+  const double inv_width = 1.0 / (2.0 * std::numbers::sqrt2 * epsilon);
+  const double inv_12h = n / 12.0;
+  const std::ptrdiff_t sy = f.stride_y(), sz = f.stride_z();
+  Field phi(n, 2);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double* p = &f(i, j, k);
+        const double grad = std::max(std::sqrt(grad4_sq_scaled(p, sy, sz)) * inv_12h, 1e-12);
+        phi(i, j, k) = 0.5 * (1.0 + std::tanh((p[0] - nodal.level) / grad * inv_width));
+      }
+  phi.exchange_halo();
+  return phi;
+}
+
+}  // namespace cmcsurf
