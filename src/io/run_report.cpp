@@ -3,11 +3,15 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
+#include "io/csv.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -204,6 +208,44 @@ void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQ
                        q.relaxed_hist[b],
                        q.has_nodal ? fmt::format("{:.17g}", q.nodal_hist[b]) : std::string());
   write_file_atomic(path, out);
+}
+
+namespace {
+
+CsvCell json_cell(const nlohmann::json& v) {
+  if (v.is_string()) return CsvCell(v.get<std::string>());
+  if (v.is_boolean()) return CsvCell(v.get<bool>() ? "true" : "false");
+  if (v.is_number_integer()) return CsvCell(v.get<long long>());
+  if (v.is_number()) return CsvCell(v.get<double>());
+  return CsvCell("");
+}
+
+}  // namespace
+
+std::string sweep_csv(const std::vector<nlohmann::json>& reports) {
+  static const std::vector<std::string> kFirst = {
+      "surface", "volume_fraction_target", "volume_fraction", "area", "area_error",
+      "mean_curvature", "mean_curvature_error", "mean_curvature_mu", "mean_curvature_std",
+      "area_diffuse", "mean_curvature_diffuse", "area_iso", "nodal_area", "nodal_area_iso",
+      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_std_ratio",
+      "nodal_area_excess", "nodal_area_excess_iso"};
+  std::vector<std::string> header;
+  std::set<std::string> seen;
+  auto add = [&](const std::string& key) {
+    if (seen.insert(key).second) header.push_back(key);
+  };
+  for (const std::string& key : kFirst) add(key);
+  for (const nlohmann::json& r : reports)
+    for (auto it = r.begin(); it != r.end(); ++it)
+      if (!it->is_object() && !it->is_array()) add(it.key());
+  CsvWriter csv(header);
+  for (const nlohmann::json& r : reports) {
+    std::vector<CsvCell> row;
+    for (const std::string& key : header)
+      row.push_back(r.contains(key) ? json_cell(r[key]) : CsvCell(""));
+    csv.add_row(row);
+  }
+  return csv.str();
 }
 
 }  // namespace cmcsurf

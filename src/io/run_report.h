@@ -30,4 +30,8 @@ nlohmann::json quality_json(const CmcQuality& q, double relaxed_area);
 // curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H).
 void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q);
 
+// sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
+// booleans; null is an empty cell), the main quantities first.
+std::string sweep_csv(const std::vector<nlohmann::json>& reports);
+
 }  // namespace cmcsurf

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "grid/kuhn.h"
+#include "grid/stencil.h"
 
 namespace cmcsurf {
 
@@ -105,7 +106,7 @@ double sharp_volume_fraction(const Field& phi) {
       double* q = &psi(0, j, k);
       for (int i = 0; i < nx; ++i) {
         const double c = p[i];
-        const double lap = p[i + 1] + p[i - 1] + p[i + sy] + p[i - sy] + p[i + sz] + p[i - sz] - 6 * c;
+        const double lap = neighbour_sum(p + i, sy, sz) - 6 * c;  // h^2 Lap_d
         const double diag = p[i + sd] + p[i - sd] - 2 * c;
         q[i] = c - (lap + diag) / 24.0;
       }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -17,7 +18,6 @@ namespace cmcsurf {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
 
@@ -251,8 +251,8 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
     const double chi = periodic["euler_characteristic"].get<double>();
     double t = v_cell / a_cell;
     for (int it = 0; it < 50; ++it) {
-      const double g = a_cell * t + kPi * chi / 6 * t * t * t - v_cell;
-      t -= g / (a_cell + kPi * chi / 2 * t * t);
+      const double g = a_cell * t + std::numbers::pi * chi / 6 * t * t * t - v_cell;
+      t -= g / (a_cell + std::numbers::pi * chi / 2 * t * t);
     }
     r["volume_fraction_mesh"] = v_cell;
     r["sheet"] = {{"thickness_target", p.thickness},

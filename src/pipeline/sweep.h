@@ -3,7 +3,6 @@
 #pragma once
 
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -62,8 +61,5 @@ using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
                const MemberFn& done, const ProgressFn& progress = {});
 
-// sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
-// booleans; null is an empty cell), the main quantities first.
-std::string sweep_csv(const std::vector<nlohmann::json>& reports);
 
 }  // namespace cmcsurf

@@ -43,22 +43,6 @@ TEST(Sweep, MemberNames) {
   EXPECT_EQ(member_name("expr:cos(x)", 2, 0.5), "expr2_0.50");
 }
 
-TEST(Sweep, CsvHasEveryScalarMainColumnsFirst) {
-  nlohmann::json a = {{"surface", "G"}, {"area", 3.1}, {"steps", 7}, {"converged", true},
-                      {"parameters", {{"grid", 16}}}, {"nodal_area", nullptr}};
-  nlohmann::json b = a;
-  b["extra"] = "x,y";
-  const std::string csv = sweep_csv({a, b});
-  const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header.rfind("surface,volume_fraction_target,volume_fraction,area,area_error,"
-                         "mean_curvature,", 0), 0u);
-  EXPECT_NE(header.find(",steps"), std::string::npos);
-  EXPECT_NE(header.find(",extra"), std::string::npos);
-  EXPECT_EQ(header.find("parameters"), std::string::npos);  // objects are not scalars
-  EXPECT_NE(csv.find("G,,,3.1000000000000001,,"), std::string::npos);
-  EXPECT_NE(csv.find("\"x,y\""), std::string::npos);
-}
-
 // One G member at alpha and at 1 - alpha, 32^3 (eps = 0.64 h as the default at 64^3).
 struct GyroidPair {
   RunParams p;

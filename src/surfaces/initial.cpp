@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <exception>
 #include <memory>
 #include <optional>
@@ -16,8 +17,7 @@ namespace cmcsurf {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kTwoPi = 2.0 * kPi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr std::string_view kExprPrefix = "expr:";
 
 // Cell centre x_i = (i + 1/2) h; a division so that centres on a dyadic value are exact.
@@ -163,7 +163,7 @@ class UserFormula {
     if (formula.find_first_not_of(" \t") == std::string::npos)
       throw std::invalid_argument("surface '" + surface + "': empty formula after 'expr:'");
     try {
-      parser_.DefineConst("pi", kPi);
+      parser_.DefineConst("pi", std::numbers::pi);
       parser_.DefineVar("x", &x_);
       parser_.DefineVar("y", &y_);
       parser_.DefineVar("z", &z_);
