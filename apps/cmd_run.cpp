@@ -29,6 +29,121 @@ struct RunCommand {
   std::string mesh_format;  // empty: no surface mesh
 };
 
+// Refuses, on every process alike and before any communication, what a split grid cannot do.
+void check_decomposable(const RunParams& p, const Decomposition& world) {
+  if (p.smoother != SweepOrder::kRedBlack)
+    throw UsageError(fmt::format(
+        "--smoother lex: a lexicographic Gauss-Seidel sweep depends on how the grid is split, so "
+        "it is refused under mpirun ({} ranks); use --smoother redblack, whose result does not "
+        "depend on the decomposition",
+        world.ranks()));
+  if (const std::string why = world.check_grid(p.grid); !why.empty())
+    throw UsageError("--grid: " + why);
+  for (int k = 1; k <= p.coarse_levels && check_coarsenable(p.grid >> k).empty(); ++k)
+    if (const std::string why = world.check_grid(p.grid >> k); !why.empty())
+      throw UsageError(
+          fmt::format("--coarse-levels {}: the grid of level {}: {}", p.coarse_levels, k, why));
+}
+
+void validate(RunCommand& cmd) {
+  finish_run_options(cmd.params, cmd.strings, true);
+  const std::filesystem::path dir(cmd.out);
+  if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
+    throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd.out));
+  if (!cmd.mesh_format.empty()) {
+    try {
+      parse_mesh_format(cmd.mesh_format);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(fmt::format("--mesh: {}", e.what()));
+    }
+  }
+}
+
+// report.json keys of the process layout (rank 0's communication counters under MPI).
+nlohmann::json rank_keys(const Decomposition& world) {
+  nlohmann::json ranks = {{"mpi_ranks", world.ranks()},
+                          {"process_grid", {world.dims()[0], world.dims()[1], world.dims()[2]}}};
+  if (world.distributed()) {
+    const CommStats& c = world.stats();  // rank 0's share (docs/scaling.md)
+    ranks["mpi_rank0"] = {{"halo_bytes_sent", c.halo_bytes},
+                          {"halo_messages", c.halo_messages},
+                          {"gather_bytes_sent", c.gather_bytes},
+                          {"collectives", c.collectives},
+                          {"comm_seconds", c.seconds}};
+  }
+  return ranks;
+}
+
+void print_summary(const RunResult& r, const CmcQuality& quality,
+                   const nlohmann::json& report, const std::filesystem::path& dir) {
+  std::cerr << fmt::format(
+      "{} after {} steps ({} V-cycles, {:.2f} V-cycles/step, {:.2f} ms/V-cycle) in {:.2f} s\n",
+      r.converged ? "converged" : "NOT converged (max-steps reached)", r.steps, r.vcycles,
+      report["vcycles_per_step"].get<double>(), 1e3 * report["seconds_per_vcycle"].get<double>(),
+      r.wall_seconds);
+  std::cerr << fmt::format(
+      "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction {:.5f}\n"
+      "local H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  (measures {:.2f} s, quality "
+      "{:.2f} s)\nwrote {}/report.json, history.csv, field.vti\n",
+      r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
+      plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
+      r.final.volume_fraction, quality.relaxed.std,
+      quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
+      r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
+      dir.string());
+}
+
+void print_warnings(const RunParams& p, const RunResult& r) {
+  if (r.unconverged_steps > 0)
+    std::cerr << fmt::format("warning: {} time steps ended at --max-vcycles before --mg-tol\n",
+                             r.unconverged_steps);
+  if (r.volume_constrained && !r.volume_converged)
+    std::cerr << fmt::format(
+        "warning: the volume fraction {:.6f} is not within --volume-tol of {} after {} mass "
+        "corrections (report.json volume_iterates); try a smaller --tol\n",
+        r.final.volume_fraction, p.volume_fraction,
+        r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
+}
+
+int run(RunCommand& cmd) {
+  validate(cmd);
+  RunParams& p = cmd.params;
+  const std::filesystem::path dir(cmd.out);
+  const auto world = Decomposition::world();
+  if (world->distributed()) {
+    check_decomposable(p, *world);
+    p.decomposition = world;
+  }
+  const int threads = apply_threads(cmd.threads);
+  Progress progress(cmd.quiet);
+  if (!cmd.quiet)
+    std::cerr << fmt::format(
+        "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}{}\n",
+        version_string(), p.surface, p.volume_fraction, p.grid, p.epsilon, p.dt(), threads,
+        world->distributed() ? fmt::format(" x {} ranks ({} x {} x {})", world->ranks(),
+                                           world->dims()[0], world->dims()[1], world->dims()[2])
+                             : std::string());
+  RunResult r = run_cmc(p, [&](const StepRecord& s) { progress.step(s); });
+  progress.finish();
+
+  // Rank 0 gathers the field and measures and writes everything, as a serial run would.
+  if (world->distributed()) {
+    Field whole(p.grid, 2);
+    gather_field(r.phi, whole, false);
+    if (world->rank() != 0) return 0;
+    r.phi = std::move(whole);
+    p.decomposition = nullptr;
+  }
+  const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
+  const nlohmann::json report =
+      write_run_folder(dir, p, r, quality, threads, cmd.float32, rank_keys(*world), [&] {
+        if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, r.phi, cmd.mesh_format);
+      });
+  if (!cmd.quiet) print_summary(r, quality, report, dir);
+  print_warnings(p, r);
+  return 0;
+}
+
 }  // namespace
 
 CommandFn add_run_command(CLI::App& root) {
@@ -44,108 +159,7 @@ CommandFn add_run_command(CLI::App& root) {
                   "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
                   "unit-cell coordinates, with surface.FORMAT.json");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
-  return {app, [cmd]() -> int {
-            RunParams& p = cmd->params;
-            finish_run_options(p, cmd->strings, true);
-            const std::filesystem::path dir(cmd->out);
-            if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
-              throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));
-            if (!cmd->mesh_format.empty()) {
-              try {
-                parse_mesh_format(cmd->mesh_format);
-              } catch (const std::invalid_argument& e) {
-                throw UsageError(fmt::format("--mesh: {}", e.what()));
-              }
-            }
-            const auto world = Decomposition::world();
-            if (world->distributed()) {
-              // Checked on every process alike, before any communication.
-              if (p.smoother != SweepOrder::kRedBlack)
-                throw UsageError(fmt::format(
-                    "--smoother lex: a lexicographic Gauss-Seidel sweep depends on how the grid "
-                    "is split, so it is refused under mpirun ({} ranks); use --smoother "
-                    "redblack, whose result does not depend on the decomposition",
-                    world->ranks()));
-              if (const std::string why = world->check_grid(p.grid); !why.empty())
-                throw UsageError("--grid: " + why);
-              for (int k = 1; k <= p.coarse_levels && check_coarsenable(p.grid >> k).empty(); ++k)
-                if (const std::string why = world->check_grid(p.grid >> k); !why.empty())
-                  throw UsageError(fmt::format("--coarse-levels {}: the grid of level {}: {}",
-                                               p.coarse_levels, k, why));
-              p.decomposition = world;
-            }
-            const int threads = apply_threads(cmd->threads);
-
-            Progress progress(cmd->quiet);
-            if (!cmd->quiet)
-              std::cerr << fmt::format(
-                  "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}{}\n",
-                  version_string(), p.surface, p.volume_fraction, p.grid, p.epsilon, p.dt(),
-                  threads,
-                  world->distributed()
-                      ? fmt::format(" x {} ranks ({} x {} x {})", world->ranks(),
-                                    world->dims()[0], world->dims()[1], world->dims()[2])
-                      : std::string());
-            RunResult r = run_cmc(p, [&](const StepRecord& s) { progress.step(s); });
-            progress.finish();
-
-            // Rank 0 gathers the field and writes everything, as a serial run would.
-            if (world->distributed()) {
-              Field whole(p.grid, 2);
-              gather_field(r.phi, whole, false);
-              if (world->rank() != 0) return 0;
-              r.phi = std::move(whole);
-              p.decomposition = nullptr;
-            }
-            nlohmann::json ranks = {
-                {"mpi_ranks", world->ranks()},
-                {"process_grid", {world->dims()[0], world->dims()[1], world->dims()[2]}}};
-            if (world->distributed()) {
-              const CommStats& c = world->stats();  // rank 0's share (docs/scaling.md)
-              ranks["mpi_rank0"] = {{"halo_bytes_sent", c.halo_bytes},
-                                    {"halo_messages", c.halo_messages},
-                                    {"gather_bytes_sent", c.gather_bytes},
-                                    {"collectives", c.collectives},
-                                    {"comm_seconds", c.seconds}};
-            }
-            const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
-            const nlohmann::json report =
-                write_run_folder(dir, p, r, quality, threads, cmd->float32, ranks, [&] {
-                  if (!cmd->mesh_format.empty())
-                    write_run_surface_mesh(dir, r.phi, cmd->mesh_format);
-                });
-
-            if (!cmd->quiet) {
-              std::cerr << fmt::format(
-                  "{} after {} steps ({} V-cycles, {:.2f} V-cycles/step, {:.2f} ms/V-cycle) in "
-                  "{:.2f} s\n",
-                  r.converged ? "converged" : "NOT converged (max-steps reached)", r.steps,
-                  r.vcycles, report["vcycles_per_step"].get<double>(),
-                  1e3 * report["seconds_per_vcycle"].get<double>(), r.wall_seconds);
-              std::cerr << fmt::format(
-                  "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction "
-                  "{:.5f}\nlocal H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  "
-                  "(measures {:.2f} s, quality {:.2f} s)\nwrote {}/report.json, history.csv, "
-                  "field.vti\n",
-                  r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
-                  plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
-                  r.final.volume_fraction, quality.relaxed.std,
-                  quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
-                  r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds,
-                  quality.seconds, dir.string());
-            }
-            if (r.unconverged_steps > 0)
-              std::cerr << fmt::format(
-                  "warning: {} time steps ended at --max-vcycles before --mg-tol\n",
-                  r.unconverged_steps);
-            if (r.volume_constrained && !r.volume_converged)
-              std::cerr << fmt::format(
-                  "warning: the volume fraction {:.6f} is not within --volume-tol of {} after {} "
-                  "mass corrections (report.json volume_iterates); try a smaller --tol\n",
-                  r.final.volume_fraction, p.volume_fraction,
-                  r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
-            return 0;
-          }};
+  return {app, [cmd]() -> int { return run(*cmd); }};
 }
 
 }  // namespace cmcsurf::cli

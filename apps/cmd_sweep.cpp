@@ -83,6 +83,85 @@ void plot(const SweepCommand& cmd, const fs::path& dir) {
                              command, rc);
 }
 
+SweepParams validate(SweepCommand& cmd) {
+  SweepParams sp;
+  finish_run_options(cmd.params, cmd.strings, false);
+  try {
+    sp.surfaces = parse_surface_list(cmd.surfaces);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--surface: {}", e.what()));
+  }
+  try {
+    sp.fractions = parse_volume_fractions(cmd.fractions);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--volume-fractions: {}", e.what()));
+  }
+  if (fs::exists(cmd.out) && !fs::is_directory(cmd.out))
+    throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd.out));
+  sp.run = cmd.params;
+  sp.continuation = cmd.continuation;
+  return sp;
+}
+
+void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& quality) {
+  std::cerr << fmt::format(
+      "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, nodal {:.3g}) "
+      "nodal area excess {:+.3f}%{}\n",
+      m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area, r.final.mean_curvature,
+      quality.relaxed.std, quality.nodal.std,
+      quality.has_nodal ? 100.0 * (quality.nodal_area / r.final.area - 1.0) : 0.0,
+      r.converged ? "" : " NOT converged");
+}
+
+// sweep.json: what the sweep was (per-member parameters are in each report.json).
+nlohmann::json sweep_summary(const SweepParams& sp, std::size_t members, int threads, double wall) {
+  nlohmann::json summary = {{"members", members},
+                            {"surfaces", sp.surfaces},
+                            {"volume_fractions", sp.fractions},
+                            {"continuation", sp.continuation},
+                            {"threads", threads},
+                            {"wall_seconds", wall},
+                            {"version", version_string()},
+                            {"parameters", params_json(sp.run)}};
+  summary["parameters"].erase("surface");  // per member
+  summary["parameters"].erase("volume_fraction");
+  return summary;
+}
+
+int sweep(SweepCommand& cmd) {
+  const SweepParams sp = validate(cmd);
+  const fs::path dir(cmd.out);
+  const int threads = apply_threads(cmd.threads);
+  const auto t0 = std::chrono::steady_clock::now();
+  ensure_directory(dir);
+  std::vector<nlohmann::json> reports;
+  Progress progress(cmd.quiet);
+  auto starting = [&](const SweepMember& m) {
+    if (!cmd.quiet)
+      std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count, m.surface,
+                               m.alpha, m.started_from);
+  };
+  auto done = [&](const SweepMember& m, RunResult& r) {
+    const CmcQuality quality = measure_cmc_quality(r.phi, m.params);
+    reports.push_back(write_run_folder(dir / m.name, m.params, r, quality, threads, cmd.float32,
+                                       {{"volume_fraction_target", m.alpha},  // also if continued
+                                        {"member", m.name},
+                                        {"started_from", m.started_from}}));
+    write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
+    progress.finish();
+    if (!cmd.quiet) print_member(m, r, quality);
+  };
+  run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_json_atomic(dir / "sweep.json", sweep_summary(sp, reports.size(), threads, wall));
+  if (!cmd.no_plot) plot(cmd, dir);
+  if (!cmd.quiet)
+    std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
+                             reports.size(), wall, dir.string(),
+                             fs::exists(dir / "families.png") ? ", families.png/.svg" : "");
+  return 0;
+}
+
 }  // namespace
 
 CommandFn add_sweep_command(CLI::App& root) {
@@ -109,76 +188,7 @@ CommandFn add_sweep_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
-  return {app, [cmd]() -> int {
-            SweepParams sp;
-            finish_run_options(cmd->params, cmd->strings, false);
-            try {
-              sp.surfaces = parse_surface_list(cmd->surfaces);
-            } catch (const std::invalid_argument& e) {
-              throw UsageError(fmt::format("--surface: {}", e.what()));
-            }
-            try {
-              sp.fractions = parse_volume_fractions(cmd->fractions);
-            } catch (const std::invalid_argument& e) {
-              throw UsageError(fmt::format("--volume-fractions: {}", e.what()));
-            }
-            const fs::path dir(cmd->out);
-            if (fs::exists(dir) && !fs::is_directory(dir))
-              throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd->out));
-            sp.run = cmd->params;
-            sp.continuation = cmd->continuation;
-            const int threads = apply_threads(cmd->threads);
-            const auto t0 = std::chrono::steady_clock::now();
-
-            ensure_directory(dir);
-            std::vector<nlohmann::json> reports;
-            Progress progress(cmd->quiet);
-            auto starting = [&](const SweepMember& m) {
-              if (!cmd->quiet)
-                std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count,
-                                         m.surface, m.alpha, m.started_from);
-            };
-            auto done = [&](const SweepMember& m, RunResult& r) {
-              const RunParams& p = m.params;
-              const CmcQuality quality = measure_cmc_quality(r.phi, p);
-              const nlohmann::json report = write_run_folder(
-                  dir / m.name, p, r, quality, threads, cmd->float32,
-                  {{"volume_fraction_target", m.alpha},  // also for continued members
-                   {"member", m.name},
-                   {"started_from", m.started_from}});
-              reports.push_back(report);
-              write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
-              progress.finish();
-              if (!cmd->quiet)
-                std::cerr << fmt::format(
-                    "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, "
-                    "nodal {:.3g}) nodal area excess {:+.3f}%{}\n",
-                    m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area,
-                    r.final.mean_curvature, quality.relaxed.std, quality.nodal.std,
-                    quality.has_nodal ? 100.0 * (quality.nodal_area / r.final.area - 1.0) : 0.0,
-                    r.converged ? "" : " NOT converged");
-            };
-            run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });
-            const double wall =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            nlohmann::json summary = {{"members", reports.size()},
-                                      {"surfaces", sp.surfaces},
-                                      {"volume_fractions", sp.fractions},
-                                      {"continuation", sp.continuation},
-                                      {"threads", threads},
-                                      {"wall_seconds", wall},
-                                      {"version", version_string()},
-                                      {"parameters", params_json(sp.run)}};
-            summary["parameters"].erase("surface");  // per member
-            summary["parameters"].erase("volume_fraction");
-            write_json_atomic(dir / "sweep.json", summary);
-            if (!cmd->no_plot) plot(*cmd, dir);
-            if (!cmd->quiet)
-              std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
-                                       reports.size(), wall, dir.string(),
-                                       fs::exists(dir / "families.png") ? ", families.png/.svg" : "");
-            return 0;
-          }};
+  return {app, [cmd]() -> int { return sweep(*cmd); }};
 }
 
 }  // namespace cmcsurf::cli
