@@ -24,8 +24,8 @@ std::string plus_minus(double error) {
 }
 
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const CmcQuality& quality, int threads,
-                                bool float32, const nlohmann::json& extra,
+                                const RunResult& r, const Field& phi, const CmcQuality& quality,
+                                int threads, bool float32, const nlohmann::json& extra,
                                 const std::function<void()>& extra_files) {
   nlohmann::json report = run_report(p, r, threads);
   report.update(quality_json(quality, r.final.area));
@@ -34,7 +34,7 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
   const nlohmann::json& target = report["volume_fraction_target"];
-  write_vti(dir / "field.vti", {{"phi", &r.phi}}, float32,
+  write_vti(dir / "field.vti", {{"phi", &phi}}, float32,
             {{"surface", p.surface},
              {"volume_fraction_target", target.is_null() ? "none" : fmt::format("{}", target.get<double>())},
              {"epsilon", fmt::format("{}", p.epsilon)},

@@ -73,10 +73,12 @@ std::string plus_minus(double error);
 // A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
 // writes (the surface mesh), and report.json last, since it marks a complete run. The report
 // is run_report() plus the CMC quality keys (computed by the pipeline's measure_cmc_quality)
-// plus `extra` (which may override, e.g. the target of a continued sweep member). Writes only:
+// plus `extra` (which may override, e.g. the target of a continued sweep member). phi is the
+// whole final field (r.phi, or its gather under MPI). Writes only:
 // everything in it was computed before. Returns the report.
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const CmcQuality& quality, int threads,
+                                const RunResult& r, const Field& phi, const CmcQuality& quality,
+                                int threads,
                                 bool float32, const nlohmann::json& extra = {},
                                 const std::function<void()>& extra_files = {});
 

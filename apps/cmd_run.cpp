@@ -110,12 +110,13 @@ int run(RunCommand& cmd) {
   RunParams& p = cmd.params;
   const std::filesystem::path dir(cmd.out);
   const auto world = Decomposition::world();
+  Progress progress(cmd.quiet);
+  RunContext context([&](const StepRecord& s) { progress.step(s); });
   if (world->distributed()) {
     check_decomposable(p, *world);
-    p.decomposition = world;
+    context.decomposition = world;
   }
   const int threads = apply_threads(cmd.threads);
-  Progress progress(cmd.quiet);
   if (!cmd.quiet)
     std::cerr << fmt::format(
         "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}{}\n",
@@ -123,21 +124,21 @@ int run(RunCommand& cmd) {
         world->distributed() ? fmt::format(" x {} ranks ({} x {} x {})", world->ranks(),
                                            world->dims()[0], world->dims()[1], world->dims()[2])
                              : std::string());
-  RunResult r = run_cmc(p, [&](const StepRecord& s) { progress.step(s); });
+  const RunResult r = run_cmc(p, context);
   progress.finish();
 
   // Rank 0 gathers the field and measures and writes everything, as a serial run would.
+  Field whole;
   if (world->distributed()) {
-    Field whole(p.grid, 2);
+    whole = Field(p.grid, 2);
     gather_field(r.phi, whole, false);
     if (world->rank() != 0) return 0;
-    r.phi = std::move(whole);
-    p.decomposition = nullptr;
   }
-  const CmcQuality quality = measure_cmc_quality(r.phi, p);  // docs/families.md
-  const nlohmann::json report =
-      write_run_folder(dir, p, r, quality, threads, cmd.float32, rank_keys(*world), [&] {
-        if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, r.phi, cmd.mesh_format);
+  const Field& field = world->distributed() ? whole : r.phi;
+  const CmcQuality quality = measure_cmc_quality(field, p);  // docs/families.md
+  const nlohmann::json report = write_run_folder(
+      dir, p, r, field, quality, threads, cmd.float32, rank_keys(*world), [&] {
+        if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
       });
   if (!cmd.quiet) print_summary(r, quality, report, dir);
   print_warnings(p, r);

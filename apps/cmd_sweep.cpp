@@ -143,7 +143,8 @@ int sweep(SweepCommand& cmd) {
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
     const CmcQuality quality = measure_cmc_quality(r.phi, m.params);
-    reports.push_back(write_run_folder(dir / m.name, m.params, r, quality, threads, cmd.float32,
+    reports.push_back(write_run_folder(dir / m.name, m.params, r, r.phi, quality, threads,
+                                       cmd.float32,
                                        {{"volume_fraction_target", m.alpha},  // also if continued
                                         {"member", m.name},
                                         {"started_from", m.started_from}}));

@@ -136,13 +136,13 @@ namespace {
 // The time loop shared by the CMC algorithm and direct relaxations.
 class Evolution {
  public:
-  Evolution(const RunParams& params, const ProgressFn& progress, RunResult& result)
+  Evolution(const RunParams& params, const RunContext& context, RunResult& result)
       : params_(params),
-        progress_(progress),
+        progress_(context.progress),
         result_(result),
-        previous_(params.grid, 2, params.decomposition),
+        previous_(params.grid, 2, context.decomposition),
         stepper_(params.grid, {params.epsilon, params.dt(), params.smoother}, params.solver,
-                 params.decomposition) {}
+                 context.decomposition) {}
 
   void set_epsilon(double eps) { stepper_.set_params({eps, params_.dt(), params_.smoother}); }
 
@@ -287,28 +287,28 @@ void measure_final(RunResult& r, const RunParams& params) {
   r.measure_seconds = seconds_since(t0);
 }
 
-RunResult run_cmc_stages(const RunParams& params, const ProgressFn& progress);
+RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
 
 }  // namespace
 
-RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress) {
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
   RunResult result;
-  result.phi = Field(params.grid, 2, params.decomposition);
+  result.phi = Field(params.grid, 2, context.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
-  Evolution evolution(params, progress, result);
+  Evolution evolution(params, context, result);
   evolution.relax();
   measure_final(result, params);
   return result;
 }
 
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const ProgressFn& progress) {
+                                   const RunContext& context) {
   RunResult result;
-  result.phi = Field(params.grid, 2, params.decomposition);
+  result.phi = Field(params.grid, 2, context.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
-  Evolution evolution(params, progress, result);
+  Evolution evolution(params, context, result);
   evolution.relax();
   if (params.constrain == Constraint::kVolume && is_nodal_surface(params.surface))
     constrain_volume(evolution, params, result);
@@ -320,16 +320,16 @@ namespace {
 
 // Coarse-to-fine continuation: the whole algorithm on N/2, then the result interpolated to N
 // and relaxed there (and volume-corrected), so most steps happen on the cheaper grid.
-RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progress) {
+RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context) {
   const auto t0 = Clock::now();
   RunParams coarse_params = params;
   coarse_params.grid = params.grid / 2;
   coarse_params.coarse_levels = params.coarse_levels - 1;
-  RunResult coarse = run_cmc_stages(coarse_params, progress);
+  RunResult coarse = run_cmc_stages(coarse_params, context);
   coarse.phi.exchange_halo();
 
   RunResult result;
-  result.phi = Field(params.grid, 2, params.decomposition);
+  result.phi = Field(params.grid, 2, context.decomposition);
   prolongate_trilinear(coarse.phi, result.phi);
   result.history = coarse.history;
   for (StepRecord& r : result.history) r.stage = fmt::format("{}@{}", r.stage, coarse_params.grid);
@@ -340,7 +340,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const ProgressFn& progres
   result.bisection = coarse.bisection;
   result.mass_before_shift = coarse.mass_before_shift;
   result.initial = coarse.initial;
-  Evolution evolution(params, progress, result);
+  Evolution evolution(params, context, result);
   evolution.continue_after(coarse, t0);
   evolution.relax();
   if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
@@ -373,40 +373,40 @@ void prolongate_trilinear(const Field& coarse, Field& fine) {
   fine.exchange_halo();
 }
 
-RunResult run_cmc(const RunParams& params, const ProgressFn& progress) {
-  RunResult result = run_cmc_stages(params, progress);
+RunResult run_cmc(const RunParams& params, const RunContext& context) {
+  RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
   return result;
 }
 
 namespace {
 
-RunResult run_cmc_stages(const RunParams& params, const ProgressFn& progress) {
+RunResult run_cmc_stages(const RunParams& params, const RunContext& context) {
   InitialFieldParams init;
   init.surface = params.surface;
   init.epsilon = params.epsilon;
   init.radius = params.radius;
   init.seed = params.seed;
   init.noise_amplitude = params.noise_amplitude;
-  const auto& d = params.decomposition;
+  const auto& d = context.decomposition;
   if (!is_nodal_surface(params.surface)) {
     RunResult result;
     result.phi = make_initial_field(init, params.grid, 2, d);
     result.initial = measure_field(result.phi, params.epsilon);
-    Evolution evolution(params, progress, result);
+    Evolution evolution(params, context, result);
     evolution.relax();
     return result;
   }
   if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
       (!d || d->splits(params.grid / 2)))
-    return run_cmc_from_coarse(params, progress);
+    return run_cmc_from_coarse(params, context);
 
   RunResult result;
   result.phi = make_initial_field(init, params.grid, 2, d);  // step 1
   Field& phi = result.phi;
   truncate_unit_interval(phi);  // step 2
   result.initial = measure_field(phi, params.epsilon);
-  Evolution evolution(params, progress, result);
+  Evolution evolution(params, context, result);
 
   const double wide = params.prerelax_epsilon_factor * params.epsilon;  // step 3
   evolution.set_epsilon(wide);

@@ -6,6 +6,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "cahn_hilliard/time_step.h"
@@ -53,10 +55,7 @@ struct RunParams {
   // a step that hits --max-vcycles halves it. The convex splitting is stable for any dt and
   // its fixed points do not depend on dt, so only the path to the equilibrium changes.
   double dt_max_factor = 0.0;
-  bool fast = false;  // set by `--fast` (which chose the options above); reported only
-  // The processes sharing the grid (null: this process holds it whole). Not a parameter of
-  // the result: a run gives the same surface on any number of processes (docs/scaling.md).
-  std::shared_ptr<const Decomposition> decomposition;
+  bool fast = false;  // the user asked for `--fast` (which chose the options above)
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -148,6 +147,20 @@ struct RunResult {
 // Called after every time step with the step's record.
 using ProgressFn = std::function<void(const StepRecord&)>;
 
+// The run-time handles of a run, apart from its configuration (RunParams): neither changes the
+// surface a run computes (docs/architecture.md). A progress function converts to a context.
+struct RunContext {
+  RunContext() = default;
+  template <class F>
+    requires(std::is_constructible_v<ProgressFn, F> &&
+             !std::is_same_v<std::decay_t<F>, RunContext>)
+  RunContext(F&& progress_fn) : progress(std::forward<F>(progress_fn)) {}  // NOLINT: implicit
+  ProgressFn progress;  // after every time step (may be empty)
+  // The processes sharing the grid (null: this process holds it whole). A run gives the same
+  // surface on any number of processes (docs/scaling.md).
+  std::shared_ptr<const Decomposition> decomposition;
+};
+
 // Section 4.4: V_ave(phi, alpha, beta).
 double average_volume_fraction(const Field& phi, double alpha, double beta);
 // Section 4.4's bisection on beta in [0, 1] for V_ave(phi, alpha, beta) = alpha, as printed.
@@ -160,20 +173,20 @@ void truncate_unit_interval(Field& phi);
 void shift_mean(Field& phi, double alpha);
 
 // Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
-RunResult relax_field(const Field& phi0, const RunParams& params, const ProgressFn& progress = {});
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context = {});
 
 // Steps 6 and after from a given start (copied): relaxes at params.epsilon and, for a nodal
 // surface with Constraint::kVolume, corrects the mass until the sharp volume fraction is
 // params.volume_fraction (the same secant iteration as run_cmc). Sweeps continue a family
 // from its previous member with it.
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const ProgressFn& progress = {});
+                                   const RunContext& context = {});
 
 // Cell-centred trilinear interpolation from n to 2n (weights 3/4, 1/4 per axis; keeps the mean).
 void prolongate_trilinear(const Field& coarse, Field& fine);
 
 // Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
 // parameters the caller should have validated.
-RunResult run_cmc(const RunParams& params, const ProgressFn& progress = {});
+RunResult run_cmc(const RunParams& params, const RunContext& context = {});
 
 }  // namespace cmcsurf

@@ -131,9 +131,9 @@ std::string member_name(const std::string& surface, int surface_index, double al
 }
 
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
-                             const RunParams& params, const ProgressFn& progress) {
+                             const RunParams& params, const RunContext& context) {
   const double alpha = params.volume_fraction;
-  Field phi0(params.grid, 2, params.decomposition);
+  Field phi0(params.grid, 2, context.decomposition);
   copy_interior(neighbour, phi0);
   if (params.constrain == Constraint::kMass) {
     shift_mean(phi0, alpha);  // step 5
@@ -143,7 +143,7 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
     add_constant(phi0, alpha - neighbour_alpha);
     phi0.exchange_halo();
   }
-  return relax_to_volume_fraction(phi0, params, progress);
+  return relax_to_volume_fraction(phi0, params, context);
 }
 
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
@@ -183,7 +183,7 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
 }
 
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
-               const MemberFn& done, const ProgressFn& progress) {
+               const MemberFn& done, const RunContext& context) {
   const int count = int(params.surfaces.size() * params.fractions.size());
   int index = 0;
   for (std::size_t s = 0; s < params.surfaces.size(); ++s) {
@@ -203,8 +203,8 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
       const bool continued = params.continuation && !previous_name.empty();
       m.started_from = continued ? previous_name : "nodal";
       if (starting) starting(m);
-      RunResult r = continued ? run_from_neighbour(previous, previous_alpha, m.params, progress)
-                              : run_cmc(m.params, progress);
+      RunResult r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context)
+                              : run_cmc(m.params, context);
       if (params.continuation) {
         previous = Field(params.run.grid, 2);
         copy_interior(r.phi, previous);

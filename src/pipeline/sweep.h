@@ -46,7 +46,7 @@ struct SweepMember {
 // shifted by alpha - neighbour_alpha and handed to relax_to_volume_fraction, whose secant
 // iteration on the mass (the one run_cmc uses) brings V to alpha within volume_tol.
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
-                             const RunParams& params, const ProgressFn& progress = {});
+                             const RunParams& params, const RunContext& context = {});
 
 // CMC quality of a run's final field (docs/families.md), a pipeline stage after the solve: the
 // local mean curvature over the surface (measure/sharp_surface.h) and, for nodal surfaces, the
@@ -59,7 +59,7 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
 // here for the next member's continuation).
 using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
-               const MemberFn& done, const ProgressFn& progress = {});
+               const MemberFn& done, const RunContext& context = {});
 
 
 }  // namespace cmcsurf
