@@ -133,6 +133,7 @@ int run(RunCommand& cmd) {
     whole = Field(p.grid, 2);
     gather_field(r.phi, whole, false);
     if (world->rank() != 0) return 0;
+    whole.exchange_halo();  // a const Field& argument arrives with valid ghosts
   }
   const Field& field = world->distributed() ? whole : r.phi;
   const CmcQuality quality = measure_cmc_quality(field, p);  // docs/families.md

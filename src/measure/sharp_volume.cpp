@@ -10,11 +10,11 @@ namespace cmcsurf {
 
 namespace {
 
-// Sum over the 6 tetrahedra of the fraction above 1/2, for the 8 corner values.
-double cube_sixfold_fraction(const double v[8]) {
+// Sum over the 6 tetrahedra of the fraction above level, for the 8 corner values.
+double cube_sixfold_fraction(const double v[8], double level = 0.5) {
   double s = 0.0;
   for (const auto& t : kKuhnTets) {
-    const double g[4] = {v[t[0]] - 0.5, v[t[1]] - 0.5, v[t[2]] - 0.5, v[t[3]] - 0.5};
+    const double g[4] = {v[t[0]] - level, v[t[1]] - level, v[t[2]] - level, v[t[3]] - level};
     s += tet_fraction_above(g);
   }
   return s;
@@ -52,7 +52,7 @@ double tet_fraction_above(const double g[4]) {
   }
 }
 
-double linear_volume_fraction(const Field& phi) {
+double linear_volume_fraction(const Field& phi, double level) {
   if (phi.ghost() < 1) throw std::invalid_argument("linear_volume_fraction: needs ghost >= 1");
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
@@ -71,10 +71,10 @@ double linear_volume_fraction(const Field& phi) {
           lo = std::min(lo, v[c]);
           hi = std::max(hi, v[c]);
         }
-        if (lo > 0.5)
+        if (lo > level)
           sixths += 6.0;
-        else if (hi > 0.5)
-          sixths += cube_sixfold_fraction(v);
+        else if (hi > level)
+          sixths += cube_sixfold_fraction(v, level);
       }
     }
   return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
@@ -94,11 +94,10 @@ double linear_volume_fraction_ref(const Field& phi) {
   return sixths / (6.0 * double(phi.interior_size()));
 }
 
-double sharp_volume_fraction(const Field& phi) {
-  if (phi.ghost() < 2) throw std::invalid_argument("sharp_volume_fraction: needs ghost >= 2");
+void curvature_corrected(const Field& phi, Field& psi) {
+  if (phi.ghost() < 2) throw std::invalid_argument("curvature_corrected: needs ghost >= 2");
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z(), sd = 1 + sy + sz;
-  Field psi = Field::like(phi, 1);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j) {
@@ -112,6 +111,11 @@ double sharp_volume_fraction(const Field& phi) {
       }
     }
   psi.exchange_halo();
+}
+
+double sharp_volume_fraction(const Field& phi) {
+  Field psi = Field::like(phi, 1);
+  curvature_corrected(phi, psi);
   return linear_volume_fraction(psi);
 }
 

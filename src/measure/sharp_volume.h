@@ -26,14 +26,18 @@ namespace cmcsurf {
 // t11 t12 + t12 t21 (1 - t11) + t21 t22 (1 - t12) (three tetrahedra of the cut prism).
 double tet_fraction_above(const double g[4]);
 
-// Volume fraction of {phi_h > 1/2} for the piecewise-linear interpolant of phi. Reads the
+// Volume fraction of {phi_h > level} for the piecewise-linear interpolant of phi. Reads the
 // interior and one ghost layer (the caller keeps the halo current).
-double linear_volume_fraction(const Field& phi);
+double linear_volume_fraction(const Field& phi, double level = 0.5);
 // Plain loop twin: periodic index wrap (no halo), every tetrahedron of every dual cell.
 double linear_volume_fraction_ref(const Field& phi);
 
-// The bias-corrected estimator above: the volume fraction reported as V(phi) (Section 2.1).
-// Needs ghost >= 2 with a current halo.
+// psi = phi - (Lap_h phi + D_h phi) / 24 of the bias correction above, halo exchanged
+// (psi: the block of phi, ghost >= 1). phi needs ghost >= 2 with a current halo.
+void curvature_corrected(const Field& phi, Field& psi);
+
+// The bias-corrected estimator above: the volume fraction reported as V(phi) (Section 2.1),
+// linear_volume_fraction of curvature_corrected(phi). Needs ghost >= 2 with a current halo.
 double sharp_volume_fraction(const Field& phi);
 double sharp_volume_fraction_ref(const Field& phi);  // plain twin, periodic index wrap
 

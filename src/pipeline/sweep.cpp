@@ -159,10 +159,7 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
   }
   if (is_nodal_surface(params.surface)) {
     // The nodal surface with the relaxed surface's sharp volume fraction.
-    Field phi = Field::like(relaxed, 2);
-    copy_interior(relaxed, phi);
-    phi.exchange_halo();
-    const double v = sharp_volume_fraction(phi);
+    const double v = sharp_volume_fraction(relaxed);
     const NodalLevelSet nodal = nodal_level_set(
         params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid);
     std::vector<CurvatureSample> nodal_samples;

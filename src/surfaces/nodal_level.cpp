@@ -12,23 +12,6 @@
 
 namespace cmcsurf {
 
-namespace {
-
-// Sharp volume fraction of {f > c}: f - c + 1/2 thresholded at 1/2.
-double volume_above(const Field& f, double c, Field& work) {
-  const int n = f.n();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) {
-      const double* p = &f(0, j, k);
-      double* q = &work(0, j, k);
-      for (int i = 0; i < n; ++i) q[i] = p[i] - c + 0.5;
-    }
-  work.exchange_halo();
-  return sharp_volume_fraction(work);
-}
-
-}  // namespace
 
 NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol) {
   if (!is_nodal_surface(surface))
@@ -40,23 +23,25 @@ NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, d
   NodalLevelSet out;
   out.f = make_initial_field(init, n, 2);
   const Field& f = out.f;
-  // First guess: a fraction alpha of the cells has f > c.
+  // First guess: a fraction alpha of every 8th cell (i, j, k even) has f > c.
   std::vector<double> values;
-  values.reserve(f.interior_size());
-  for_each_cell(n, [&](int i, int j, int k) { values.push_back(f(i, j, k)); });
+  values.reserve(f.interior_size() / 8 + 1);
+  for (int k = 0; k < n; k += 2)
+    for (int j = 0; j < n; j += 2)
+      for (int i = 0; i < n; i += 2) values.push_back(f(i, j, k));
   const long total = long(values.size());
   const long above = std::clamp(std::lround(alpha * double(total)), 1L, total - 1);
   std::nth_element(values.begin(), values.begin() + (total - above), values.end());
-  const double hi = values[total - above];
-  const double lo = *std::max_element(values.begin(), values.begin() + (total - above));
   const double f_min = *std::min_element(values.begin(), values.end());
-  const double f_max = *std::max_element(values.begin() + (total - above), values.end());
+  const double f_max = *std::max_element(values.begin(), values.end());
+  // Secant steps on V(c) = alpha, V(c) the sharp volume fraction of {f > c}: the linear
+  // interpolant of the curvature-corrected samples above c (measure/sharp_volume.h).
+  Field g = Field::like(f, 1);
+  curvature_corrected(f, g);
+  auto volume_above = [&](double c) { return linear_volume_fraction(g, c); };
+  double c0 = values[total - above], v0 = volume_above(c0);
   values = {};
-  // Secant steps on V(c) = alpha; V decreases with c. The first slope is a difference over
-  // a small step of c.
-  Field work(n, 2);
-  double c0 = 0.5 * (lo + hi), v0 = volume_above(f, c0, work);
-  double c1 = c0 + 1e-3 * (f_max - f_min), v1 = volume_above(f, c1, work);
+  double c1 = c0 + 1e-3 * (f_max - f_min), v1 = volume_above(c1);
   for (int it = 0; it < 30 && std::abs(v1 - alpha) > tol; ++it) {
     const double slope = (v1 - v0) / (c1 - c0);
     if (!(slope < 0.0) || !std::isfinite(slope)) break;
@@ -64,7 +49,7 @@ NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, d
     c0 = c1;
     v0 = v1;
     c1 = c2;
-    v1 = volume_above(f, c1, work);
+    v1 = volume_above(c1);
   }
   if (std::abs(v0 - alpha) < std::abs(v1 - alpha)) {
     c1 = c0;
