@@ -291,29 +291,32 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
 
 }  // namespace
 
-RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
+namespace {
+
+// A run that starts from a given field (copied): steps 6 and after, and the final measures.
+RunResult relax_from(const Field& phi0, const RunParams& params, const RunContext& context,
+                     bool hold_volume) {
   RunResult result;
   result.phi = Field(params.grid, 2, context.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
   Evolution evolution(params, context, result);
   evolution.relax();
+  if (hold_volume) constrain_volume(evolution, params, result);
   measure_final(result, params);
   return result;
 }
 
+}  // namespace
+
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
+  return relax_from(phi0, params, context, false);
+}
+
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
                                    const RunContext& context) {
-  RunResult result;
-  result.phi = Field(params.grid, 2, context.decomposition);
-  copy_interior(phi0, result.phi);
-  result.initial = measure_field(result.phi, params.epsilon);
-  Evolution evolution(params, context, result);
-  evolution.relax();
-  if (params.constrain == Constraint::kVolume && is_nodal_surface(params.surface))
-    constrain_volume(evolution, params, result);
-  measure_final(result, params);
-  return result;
+  const bool hold = params.constrain == Constraint::kVolume && is_nodal_surface(params.surface);
+  return relax_from(phi0, params, context, hold);
 }
 
 namespace {
