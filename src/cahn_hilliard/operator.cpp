@@ -75,6 +75,8 @@ inline void apply_row(const double* __restrict ph, const double* __restrict nv,
 }  // namespace
 
 void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
+  CMCSURF_DCHECK(halo_is_current(phi_n));
+  CMCSURF_CHECK(src_phi.size() == phi_n.size() && src_nu.size() == phi_n.size());
   const int n = phi_n.n(), nx = phi_n.nx(), ny = phi_n.ny(), nz = phi_n.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / dt;
   const std::ptrdiff_t sy = phi_n.stride_y(), sz = phi_n.stride_z();
@@ -85,8 +87,77 @@ void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
                  inv_h2);
 }
 
+namespace {
+
+// Delta_d f at (i, j, k), written out.
+double laplacian_ref(const Field& f, int i, int j, int k) {
+  const double h = 1.0 / f.n();
+  return (f(i + 1, j, k) + f(i - 1, j, k) + f(i, j + 1, k) + f(i, j - 1, k) + f(i, j, k + 1) +
+          f(i, j, k - 1) - 6.0 * f(i, j, k)) /
+         (h * h);
+}
+
+}  // namespace
+
+void ch_source_ref(const Field& phi_n, double dt, Field& src_phi, Field& src_nu) {
+  CMCSURF_DCHECK(halo_is_current(phi_n));
+  for_each_cell(phi_n, [&](int i, int j, int k) {
+    src_phi(i, j, k) = phi_n(i, j, k) / dt - 0.25 * laplacian_ref(phi_n, i, j, k);
+    src_nu(i, j, k) = 0.0;
+  });
+}
+
+void ch_nu_from_phi(const Field& phi, double epsilon, Field& nu) {
+  CMCSURF_DCHECK(halo_is_current(phi));
+  CMCSURF_CHECK(nu.size() == phi.size());
+  const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const double inv_h2 = double(n) * n, eps2 = epsilon * epsilon;
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const double* ph = &phi(0, j, k);
+      double* nv = &nu(0, j, k);
+      for (int i = 0; i < nx; ++i) nv[i] = ch_f(ph[i]) - eps2 * laplacian(ph + i, sy, sz, inv_h2);
+    }
+}
+
+double ch_defect_norm(const Field& d_phi, const Field& d_nu, double dt) {
+  CMCSURF_CHECK(d_nu.size() == d_phi.size());
+  const int nx = d_phi.nx(), ny = d_phi.ny(), nz = d_phi.nz();
+  double s1 = 0.0, s2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : s1, s2) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const double* a = &d_phi(0, j, k);
+      const double* b = &d_nu(0, j, k);
+      for (int i = 0; i < nx; ++i) {
+        s1 += a[i] * a[i];
+        s2 += b[i] * b[i];
+      }
+    }
+  double sums[2] = {s1, s2};
+  d_phi.sum_over_ranks(sums, 2);
+  return std::sqrt((dt * dt * sums[0] + sums[1]) / d_phi.global_cells());
+}
+
+double ch_defect_norm_ref(const Field& d_phi, const Field& d_nu, double dt) {
+  double sums[2] = {0.0, 0.0};
+  for_each_cell(d_phi, [&](int i, int j, int k) {
+    const double a = dt * d_phi(i, j, k), b = d_nu(i, j, k);
+    sums[0] += a * a;
+    sums[1] += b * b;
+  });
+  d_phi.sum_over_ranks(sums, 2);
+  return std::sqrt((sums[0] + sums[1]) / d_phi.global_cells());
+}
+
 void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const Field* rhs_nu,
                   const ChParams& p, Field& out_phi, Field& out_nu) {
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(nu.size() == phi.size() && out_phi.size() == phi.size() &&
+                out_nu.size() == phi.size() && (!rhs_phi || rhs_phi->size() == phi.size()) &&
+                (!rhs_nu || rhs_nu->size() == phi.size()) && (!rhs_phi == !rhs_nu));
   const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
@@ -107,25 +178,21 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
 
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
                       const Field* rhs_nu, const ChParams& p, Field& out_phi, Field& out_nu) {
-  const double h = 1.0 / phi.n(), eps = p.epsilon, dt = p.dt;
-  auto lap = [&](const Field& f, int i, int j, int k) {
-    return (f(i + 1, j, k) + f(i - 1, j, k) + f(i, j + 1, k) + f(i, j - 1, k) + f(i, j, k + 1) +
-            f(i, j, k - 1) - 6.0 * f(i, j, k)) /
-           (h * h);
-  };
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  const double eps = p.epsilon, dt = p.dt;
   for_each_cell(phi, [&](int i, int j, int k) {
-        const double x = phi(i, j, k);
-        const double a1 = x / dt - lap(nu, i, j, k);
-        const double a2 = -(x * x * x - 1.5 * x * x + 0.75 * x) + eps * eps * lap(phi, i, j, k) +
-                          nu(i, j, k);
-        if (rhs_phi) {
-          out_phi(i, j, k) = (*rhs_phi)(i, j, k) - a1;
-          out_nu(i, j, k) = (*rhs_nu)(i, j, k) - a2;
-        } else {
-          out_phi(i, j, k) = a1;
-          out_nu(i, j, k) = a2;
-        }
-      });
+    const double x = phi(i, j, k);
+    const double a1 = x / dt - laplacian_ref(nu, i, j, k);
+    const double a2 = -(x * x * x - 1.5 * x * x + 0.75 * x) +
+                      eps * eps * laplacian_ref(phi, i, j, k) + nu(i, j, k);
+    if (rhs_phi) {
+      out_phi(i, j, k) = (*rhs_phi)(i, j, k) - a1;
+      out_nu(i, j, k) = (*rhs_nu)(i, j, k) - a2;
+    } else {
+      out_phi(i, j, k) = a1;
+      out_nu(i, j, k) = a2;
+    }
+  });
 }
 
 namespace {
@@ -178,6 +245,9 @@ inline void relax_row(Field& phi, Field& nu, const Field& src_phi, const Field& 
 
 void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                   const ChParams& p, int colour) {
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(nu.size() == phi.size() && src_phi.size() == phi.size() &&
+                src_nu.size() == phi.size());
   const int n = phi.n(), ny = phi.ny(), nz = phi.nz();
   const int parity = colour + phi.offset_parity();  // colour of global i + j + k
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
@@ -220,6 +290,9 @@ void wrap_planes_z(Field& f) {
 void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                             const ChParams& p) {
   if (!phi.whole()) throw std::logic_error("smooth_red_black_fused on a block of a split grid");
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(phi.n() % 2 == 0 && nu.size() == phi.size() && src_phi.size() == phi.size() &&
+                src_nu.size() == phi.size());
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
   auto relax_plane = [&](int k, int colour) {
@@ -250,6 +323,7 @@ void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const F
     relax_plane(k0, 1);
     if (k1 - 1 > k0) relax_plane(k1 - 1, 1);
   }
+  exchange_halos(phi, nu);  // colour 1 was relaxed after its planes' wraps
 }
 
 namespace {
@@ -280,6 +354,7 @@ void relax_cell_ref(Field& phi, Field& nu, const Field& src_phi, const Field& sr
 
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                       const ChParams& p, int colour) {
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
   const auto& o = phi.offset();
   for_each_cell(phi, [&](int i, int j, int k) {
     if ((o[0] + i + o[1] + j + o[2] + k) % 2 == colour)
@@ -289,19 +364,32 @@ void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& 
 
 void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                           const ChParams& p) {
+  // A Gauss-Seidel sweep in lexicographic order depends on the order of the blocks.
+  if (!phi.whole()) throw std::logic_error("smooth_lexicographic on a block of a split grid");
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(nu.size() == phi.size() && src_phi.size() == phi.size() &&
+                src_nu.size() == phi.size());
   const int n = phi.n();
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
   for (int k = 0; k < phi.nz(); ++k)
     for (int j = 0; j < phi.ny(); ++j) relax_row(phi, nu, src_phi, src_nu, solve, j, k, 0, 1);
+  exchange_halos(phi, nu);
 }
 
-void ChOperator::apply(Fields& u, Fields& out) const {
-  exchange_halos(u[0], u[1]);
+void smooth_lexicographic_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
+                              const ChParams& p) {
+  if (!phi.whole()) throw std::logic_error("smooth_lexicographic_ref on a block of a split grid");
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  for_each_cell(phi,
+                [&](int i, int j, int k) { relax_cell_ref(phi, nu, src_phi, src_nu, p, i, j, k); });
+  exchange_halos(phi, nu);
+}
+
+void ChOperator::apply(const Fields& u, Fields& out) const {
   nso_residual(u[0], u[1], nullptr, nullptr, p_, out[0], out[1]);
 }
 
-void ChOperator::residual(Fields& u, const Fields& rhs, Fields& out) const {
-  exchange_halos(u[0], u[1]);
+void ChOperator::residual(const Fields& u, const Fields& rhs, Fields& out) const {
   nso_residual(u[0], u[1], &rhs[0], &rhs[1], p_, out[0], out[1]);
 }
 
@@ -313,39 +401,19 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
   if (!red_black && u[0].decomposition())
     throw std::logic_error("lexicographic smoothing on a grid split among processes");
   for (int s = 0; s < sweeps; ++s) {
-    if (red_black) {
-      if (u[0].whole()) {  // one block: one fused pass, periodic wrap per plane
-        exchange_halos(u[0], u[1]);
-        smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_);
-      } else {  // blocks of other processes: exchange between the colours
-        for (int colour = 0; colour < 2; ++colour) {
-          exchange_halos(u[0], u[1]);
-          smooth_color(u[0], u[1], rhs[0], rhs[1], p_, colour);
-        }
-      }
-    } else {
-      exchange_halos(u[0], u[1]);
+    if (!red_black) {
       smooth_lexicographic(u[0], u[1], rhs[0], rhs[1], p_);
+    } else if (u[0].whole()) {  // one block: one fused pass, periodic wrap per plane
+      smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_);
+    } else {  // blocks of other processes: exchange after each colour
+      for (int colour = 0; colour < 2; ++colour) {
+        smooth_color(u[0], u[1], rhs[0], rhs[1], p_, colour);
+        exchange_halos(u[0], u[1]);
+      }
     }
   }
 }
 
-double ChOperator::norm(const Fields& d) const {
-  const int nx = d[0].nx(), ny = d[0].ny(), nz = d[0].nz();
-  double s1 = 0.0, s2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : s1, s2) if (nx >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      const double* a = &d[0](0, j, k);
-      const double* b = &d[1](0, j, k);
-      for (int i = 0; i < nx; ++i) {
-        s1 += a[i] * a[i];
-        s2 += b[i] * b[i];
-      }
-    }
-  double sums[2] = {s1, s2};
-  d[0].sum_over_ranks(sums, 2);
-  return std::sqrt((p_.dt * p_.dt * sums[0] + sums[1]) / d[0].global_cells());
-}
+double ChOperator::norm(const Fields& d) const { return ch_defect_norm(d[0], d[1], p_.dt); }
 
 }  // namespace cmcsurf

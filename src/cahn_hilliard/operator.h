@@ -4,7 +4,15 @@
 //   source       = ( phi^n/dt - 1/4 Lap_d phi^n ,  0 )
 //   f(phi) = phi^3 - 3/2 phi^2 + 3/4 phi   (convex part of W', implicit)
 //
-// Time is scaled so that the mobility 6 sqrt2 M / eps is 1 (Section 3); nu = eps/(6 sqrt2) mu.
+// Time is scaled so that the mobility 6 sqrt2 M / eps is 1 (Section 3). The unknown nu is the
+// convex-split chemical potential of Eq. (6), nu = f(phi) - eps^2 Lap_d phi: it holds only
+// the implicit part of W' = f - phi/4, the explicit -phi^n/4 sits in the source as
+// -1/4 Lap_d phi^n. So nu = eps/(6 sqrt2) mu + phi/4 (at a steady state, where
+// phi^{n+1} = phi^n), not eps/(6 sqrt2) mu.
+//
+// Ghosts (docs/architecture.md): every kernel below that reads a field's neighbours requires
+// its ghosts valid on entry (checked by CMCSURF_DCHECK in checked builds); right-hand sides,
+// sources and outputs are interior-only fields unless a comment says otherwise.
 #pragma once
 
 #include "multigrid/fas.h"
@@ -29,28 +37,42 @@ class ChOperator : public FasOperator {
   const ChParams& params() const { return p_; }
 
   int components() const override { return 2; }
-  void apply(Fields& u, Fields& out) const override;
-  void residual(Fields& u, const Fields& rhs, Fields& out) const override;
+  void apply(const Fields& u, Fields& out) const override;
+  void residual(const Fields& u, const Fields& rhs, Fields& out) const override;
+  // Red-black (fused on a whole grid, colour by colour with exchanges on a block) or
+  // lexicographic; u's ghosts are valid on return.
   void smooth(Fields& u, const Fields& rhs, int sweeps) const override;
-  // sqrt(mean((dt d_phi)^2) + mean(d_nu^2)): both components in units of the unknowns.
-  double norm(const Fields& defect) const override;
+  double norm(const Fields& defect) const override;  // ch_defect_norm
 
  private:
   ChParams p_;
 };
 
-// Source term (varphi^n, psi^n) of Appendix A from phi^n (halo of phi_n must be current).
+// Source term (varphi^n, psi^n) of Appendix A from phi^n (ghosts of phi_n valid; writes the
+// interiors of src_phi and src_nu).
 void ch_source(const Field& phi_n, double dt, Field& src_phi, Field& src_nu);
+void ch_source_ref(const Field& phi_n, double dt, Field& src_phi, Field& src_nu);
 
-// Kernels, each with a plain reference twin for the tests. Halos of phi and nu must be current.
-// rhs == nullptr gives out = NSO(u); otherwise out = rhs - NSO(u).
+// nu = f(phi) - eps^2 Lap_d phi: Eq. (6) at phi, the first guess of nu^{n+1} (ghosts of phi
+// valid; writes the interior of nu).
+void ch_nu_from_phi(const Field& phi, double epsilon, Field& nu);
+
+// The norm in which the V-cycles measure a defect (d_phi, d_nu) of Eqs. (5)-(6):
+// sqrt(mean((dt d_phi)^2) + mean(d_nu^2)), both components in units of the unknowns
+// (interiors only, summed over the processes).
+double ch_defect_norm(const Field& d_phi, const Field& d_nu, double dt);
+double ch_defect_norm_ref(const Field& d_phi, const Field& d_nu, double dt);
+
+// Kernels, each with a plain reference twin for the tests. Ghosts of phi and nu must be valid;
+// rhs and out are interior only. rhs == nullptr gives out = NSO(u); otherwise out = rhs - NSO(u).
 void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const Field* rhs_nu,
                   const ChParams& p, Field& out_phi, Field& out_nu);
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
                       const Field* rhs_nu, const ChParams& p, Field& out_phi, Field& out_nu);
 
 // One relaxation of the cells of one colour ((i+j+k) % 2 == colour, global indices) by
-// (A.3)-(A.4), in parallel; the caller exchanges halos between colours.
+// (A.3)-(A.4), in parallel. Needs valid ghosts on entry and updates the interior only: the
+// ghosts of phi and nu are stale on return, and the caller exchanges halos between colours.
 void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                   const ChParams& p, int colour);
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
@@ -61,13 +83,17 @@ void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& 
 // ghosts of each plane refreshed in between and the z wrap at the end. Each thread takes a slab
 // of planes and finishes its two boundary planes after a barrier. The arithmetic is that of
 // smooth_color(0) then smooth_color(1) with a halo exchange between, so results are identical
-// for any thread count. Needs a current halo on entry, a periodic single-block halo (no MPI
-// neighbours) and even n; leaves the ghosts stale.
+// for any thread count. Whole grids of even n only (throws std::logic_error on a block). Needs
+// valid ghosts on entry and leaves them valid (a periodic wrap after the sweep).
 void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                             const ChParams& p);
 
-// One lexicographic Gauss-Seidel sweep exactly as printed in (A.3)-(A.4) (serial).
+// One lexicographic Gauss-Seidel sweep exactly as printed in (A.3)-(A.4) (serial): the wrapped
+// neighbours of the first cells are read from the ghosts as they were on entry. Whole grids
+// only (throws std::logic_error on a block). Needs valid ghosts on entry and leaves them valid.
 void smooth_lexicographic(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                           const ChParams& p);
+void smooth_lexicographic_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
+                              const ChParams& p);
 
 }  // namespace cmcsurf

@@ -4,11 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "grid/stencil.h"
-#include "measure/measures.h"
-
 namespace cmcsurf {
-
 
 ChStepper::ChStepper(int n, const ChParams& params, const StepSolverOptions& options,
                      std::shared_ptr<const Decomposition> decomposition)
@@ -25,10 +21,8 @@ void ChStepper::set_dt(double dt) {
   op_ = ChOperator(p);
 }
 
-namespace {
-
-// guess = x + r (x - prev) and prev = x, cell by cell (x is phi^n or nu^n).
 void extrapolate_into(const Field& x, Field& prev, Field& guess, double r) {
+  CMCSURF_CHECK(prev.size() == x.size() && guess.size() == x.size());
   const int nx = x.nx(), ny = x.ny(), nz = x.nz();
 #pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
   for (int k = 0; k < nz; ++k)
@@ -44,7 +38,13 @@ void extrapolate_into(const Field& x, Field& prev, Field& guess, double r) {
     }
 }
 
-}  // namespace
+void extrapolate_into_ref(const Field& x, Field& prev, Field& guess, double r) {
+  for_each_cell(x, [&](int i, int j, int k) {
+    const double now = x(i, j, k), before = prev(i, j, k);
+    prev(i, j, k) = now;
+    guess(i, j, k) = now + r * (now - before);
+  });
+}
 
 StepStats ChStepper::step(Field& phi) {
   Fields& u = solver_.solution();
@@ -54,19 +54,7 @@ StepStats ChStepper::step(Field& phi) {
   ch_source(phi, p.dt, rhs[0], rhs[1]);
   copy_interior(phi, u[0]);  // phi^{n+1} starts from phi^n
   if (!nu_valid_) {
-    // nu = f(phi) - eps^2 Lap phi: Eq. (6) at phi^n.
-    u[0].exchange_halo();
-    const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
-    const double inv_h2 = double(n) * n, eps2 = p.epsilon * p.epsilon;
-    const std::ptrdiff_t sy = u[0].stride_y(), sz = u[0].stride_z();
-#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j) {
-        const double* ph = &u[0](0, j, k);
-        double* nv = &u[1](0, j, k);
-        for (int i = 0; i < nx; ++i)
-          nv[i] = ch_f(ph[i]) - eps2 * laplacian(ph + i, sy, sz, inv_h2);
-      }
+    ch_nu_from_phi(phi, p.epsilon, u[1]);
     nu_valid_ = true;
   }
 
@@ -121,10 +109,10 @@ StepStats ChStepper::step(Field& phi) {
   // defect of Eq. (5) left at the tolerance has a mean of dt * mean(d_phi) that would drift the
   // mass by up to mg_tol per step. Removing the constant mode of that defect restores
   // conservation to round-off and changes the other defects far below the tolerance.
-  const double drift = mass(phi) - mass(u[0]);
+  const double drift = options_.restore_mass ? mean(phi) - mean(u[0]) : 0.0;
   copy_interior(u[0], phi);
-  add_constant(phi, drift);
   phi.exchange_halo();
+  if (drift != 0.0) add_constant(phi, drift);  // ghosts included: they stay valid
   return stats;
 }
 

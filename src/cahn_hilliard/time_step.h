@@ -24,6 +24,10 @@ struct StepSolverOptions {
   bool extrapolate = false;
   // A defect this many times above the step's first defect, or not finite, is divergence.
   double divergence_factor = 1e6;
+  // After the V-cycles, add the constant that restores the mean of phi^n (the defect left at
+  // the tolerance drifts the mass by up to tol per step). Tests turn it off to measure the
+  // solver's own conservation.
+  bool restore_mass = true;
 };
 
 struct StepStats {
@@ -50,14 +54,14 @@ class ChStepper {
   // Changes dt only: nu and the extrapolation history stay valid (adaptive time steps).
   void set_dt(double dt);
 
-  // Advances phi (halo refreshed on return) by one step dt. nu from the previous step is the
-  // initial guess; on the first step or after reset_nu() it is initialised from phi.
+  // Advances phi by one step dt. Reads the interior of phi (its halo is exchanged on entry)
+  // and leaves its ghosts valid. nu from the previous step is the initial guess; on the first
+  // step or after reset_nu() it is initialised from phi.
   StepStats step(Field& phi);
   void reset_nu() {
     nu_valid_ = false;
     history_valid_ = false;
   }
-  const Field& nu() const { return solver_.solution()[1]; }
   FasSolver& solver() { return solver_; }
 
  private:
@@ -70,5 +74,10 @@ class ChStepper {
   double prev_dt_ = 0.0;
   bool history_valid_ = false;
 };
+
+// guess = x + r (x - prev) and then prev = x, cell by cell (x is phi^n or nu^n, prev the
+// previous step's, r = dt_n / dt_{n-1}). Interiors only; guess may be x itself.
+void extrapolate_into(const Field& x, Field& prev, Field& guess, double r);
+void extrapolate_into_ref(const Field& x, Field& prev, Field& guess, double r);
 
 }  // namespace cmcsurf

@@ -1,7 +1,8 @@
 #include "grid/field.h"
 
 #include <algorithm>
-#include <cassert>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace cmcsurf {
@@ -18,7 +19,7 @@ Field::Field(int n, int ghost, std::shared_ptr<const Decomposition> d) {
     *this = Field(n, ghost);
     return;
   }
-  for (int a = 0; a < 3; ++a) assert(n % d->dims()[a] == 0);
+  for (int a = 0; a < 3; ++a) CMCSURF_CHECK(n % d->dims()[a] == 0);
   const Block b = d->block(n);
   allocate(b, ghost, std::move(d));
 }
@@ -33,8 +34,8 @@ void Field::allocate(const Block& b, int ghost, std::shared_ptr<const Decomposit
   size_ = b.size;
   offset_ = b.offset;
   ghost_ = ghost;
-  assert(n_ > 0 && ghost >= 0);
-  assert(ghost <= size_[0] && ghost <= size_[1] && ghost <= size_[2]);
+  CMCSURF_CHECK(n_ > 0 && ghost >= 0);
+  CMCSURF_CHECK(ghost <= size_[0] && ghost <= size_[1] && ghost <= size_[2]);
   const std::ptrdiff_t px = size_[0] + 2 * ghost, py = size_[1] + 2 * ghost,
                        pz = size_[2] + 2 * ghost;
   sy_ = px;
@@ -43,10 +44,56 @@ void Field::allocate(const Block& b, int ghost, std::shared_ptr<const Decomposit
   plan_ = d ? make_halo_plan(size_, ghost, std::move(d)) : make_periodic_halo_plan(n_, ghost);
 }
 
+void check_failed(const char* condition, const char* file, int line) {
+  std::fprintf(stderr, "cmcsurf: check failed: %s at %s:%d\n", condition, file, line);
+  std::fflush(stderr);
+  std::abort();
+}
+
 void Field::fill(double value) { std::fill(data_.begin(), data_.end(), value); }
 
+bool halo_is_current(const Field& f) {
+  const int n = f.n(), g = f.ghost();
+  if (g == 0 || !f.whole()) return true;
+  auto wrap = [n](int i) { return ((i % n) + n) % n; };
+  const std::size_t bytes_g = sizeof(double) * g, bytes_n = sizeof(double) * n;
+  for (int k = -g; k < n + g; ++k)
+    for (int j = -g; j < n + g; ++j) {
+      const double* row = &f(0, j, k);
+      if (j >= 0 && j < n && k >= 0 && k < n) {  // an interior row: its two ghost ends
+        if (std::memcmp(row - g, row + n - g, bytes_g) != 0 ||
+            std::memcmp(row + n, row, bytes_g) != 0)
+          return false;
+      } else {  // a ghost row: the whole padded row against its periodic image
+        const double* image = &f(0, wrap(j), wrap(k));
+        if (std::memcmp(row - g, image + n - g, bytes_g) != 0 ||
+            std::memcmp(row, image, bytes_n) != 0 || std::memcmp(row + n, image, bytes_g) != 0)
+          return false;
+      }
+    }
+  return true;
+}
+
+double mean(const Field& f) {
+  const int nx = f.nx(), ny = f.ny(), nz = f.nz();
+  double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k) {
+    double plane = 0.0;
+    for (int j = 0; j < ny; ++j) {
+      const double* row = &f(0, j, k);
+      double s = 0.0;
+#pragma omp simd reduction(+ : s)
+      for (int i = 0; i < nx; ++i) s += row[i];
+      plane += s;
+    }
+    sum += plane;
+  }
+  return f.sum_over_ranks(sum) / f.global_cells();
+}
+
 void copy_interior(const Field& src, Field& dst) {
-  assert(src.size() == dst.size());
+  CMCSURF_CHECK(src.size() == dst.size());
   const int nx = src.nx(), ny = src.ny(), nz = src.nz();
 #pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
   for (int k = 0; k < nz; ++k)
@@ -55,13 +102,10 @@ void copy_interior(const Field& src, Field& dst) {
 }
 
 void add_constant(Field& f, double c) {
-  const int nx = f.nx(), ny = f.ny(), nz = f.nz();
-#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      double* p = &f(0, j, k);
-      for (int i = 0; i < nx; ++i) p[i] += c;
-    }
+  double* p = f.data();
+  const std::ptrdiff_t size = std::ptrdiff_t(f.storage_size());
+#pragma omp parallel for schedule(static) if (f.nx() >= kParallelMinN)
+  for (std::ptrdiff_t i = 0; i < size; ++i) p[i] += c;
 }
 
 void gather_field(const Field& block, Field& whole, bool all) {
@@ -84,7 +128,7 @@ void gather_field(const Field& block, Field& whole, bool all) {
   else
     d->gather(mine.data(), count, every.data());
   if (!receives) return;
-  assert(whole.whole() && whole.n() == block.n());
+  CMCSURF_CHECK(whole.whole() && whole.n() == block.n());
   for (int r = 0; r < d->ranks(); ++r) {
     const Block b = d->block_of(r, block.n());
     const double* in = every.data() + std::size_t(r) * count;
@@ -97,7 +141,7 @@ void gather_field(const Field& block, Field& whole, bool all) {
 }
 
 void take_block(const Field& whole, Field& block) {
-  assert(whole.whole() && whole.n() == block.n());
+  CMCSURF_CHECK(whole.whole() && whole.n() == block.n());
   const auto& o = block.offset();
   for (int k = 0; k < block.nz(); ++k)
     for (int j = 0; j < block.ny(); ++j)

@@ -1,5 +1,11 @@
 // Periodic cell-centred scalar field on the unit cube with ghost layers: the whole N^3 grid,
 // or one process's block of it (parallel/decomposition.h).
+//
+// The ghost rule (docs/architecture.md): a `const Field&` argument arrives with valid ghosts
+// (equal to the periodic wrap of the interior, or to the neighbours' interior on a block), and
+// a function that modifies a field leaves its ghosts valid, unless its name or its comment says
+// that it reads or writes the interior only. halo_is_current() checks this on whole grids;
+// kernels that read ghosts call it under CMCSURF_DCHECK (grid/check.h) in checked builds.
 #pragma once
 
 #include <array>
@@ -7,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "grid/check.h"
 #include "grid/halo.h"
 #include "parallel/decomposition.h"
 
@@ -60,8 +67,19 @@ class Field {
   std::ptrdiff_t index(int i, int j, int k) const {
     return (k + ghost_) * sz_ + (j + ghost_) * sy_ + (i + ghost_);
   }
-  double& operator()(int i, int j, int k) { return data_[index(i, j, k)]; }
-  const double& operator()(int i, int j, int k) const { return data_[index(i, j, k)]; }
+  double& operator()(int i, int j, int k) {
+    CMCSURF_DCHECK(in_storage(i, j, k));
+    return data_[index(i, j, k)];
+  }
+  const double& operator()(int i, int j, int k) const {
+    CMCSURF_DCHECK(in_storage(i, j, k));
+    return data_[index(i, j, k)];
+  }
+  // Whether local cell (i, j, k) lies in the interior or the ghost layers.
+  bool in_storage(int i, int j, int k) const {
+    return i >= -ghost_ && i < size_[0] + ghost_ && j >= -ghost_ && j < size_[1] + ghost_ &&
+           k >= -ghost_ && k < size_[2] + ghost_;
+  }
 
   double* data() { return data_.data(); }
   const double* data() const { return data_.data(); }
@@ -70,7 +88,8 @@ class Field {
   std::size_t interior_size() const { return std::size_t(size_[0]) * size_[1] * size_[2]; }
   double global_cells() const { return double(n_) * n_ * n_; }
 
-  // Halo-exchange plan for this field's geometry (shared by fields of one level).
+  // Halo-exchange plan for this field's geometry. Each field builds its own when it is
+  // constructed (a copy of the field shares it); fields of one level do not share plans.
   const HaloPlan& halo_plan() const { return *plan_; }
   // The processes sharing the grid (null for a field that this process holds whole).
   const Decomposition* decomposition() const {
@@ -84,7 +103,8 @@ class Field {
     if (plan_->decomposition) plan_->decomposition->sum(values, count);
   }
 
-  void fill(double value);  // interior and ghosts
+  void fill(double value);  // interior and ghosts (so the ghosts stay valid)
+  // Makes the ghosts valid: periodic wrap, or the neighbours' faces on a block (collective).
   void exchange_halo() { apply_halo(*plan_, *this); }
 
  private:
@@ -125,16 +145,28 @@ inline void exchange_halos(Field& a, Field& b) {
   apply_halo(a.halo_plan(), fields, 2);
 }
 
-// Copies the interior of src into dst (same block, any ghost widths).
+// Whether the ghosts of a whole-grid field equal the periodic wrap of its interior, bit for
+// bit (NaN included). On a block of a decomposed grid the neighbours' values live on other
+// processes: it checks nothing there and returns true. Cost: one pass over the ghost cells.
+bool halo_is_current(const Field& f);
+
+// Copies the interior of src into dst (same block, any ghost widths); dst's ghosts are not
+// written (interior only: exchange dst's halo before reading them).
 void copy_interior(const Field& src, Field& dst);
 
-// Adds c to every interior value (ghosts are left for the next halo exchange).
+// Adds c to every value, ghosts included: valid ghosts stay valid.
 void add_constant(Field& f, double c);
 
+// Mean of the interior values over the whole grid (the per-process sums are added over the
+// processes; every process gets the same value). For phi this is the conserved mass.
+double mean(const Field& f);
+
 // The whole grid from the blocks of a decomposed field, on every process (all) or on rank 0
-// only (`whole` is left untouched elsewhere). A whole field is copied. whole: Field(n, g).
+// only (`whole` is left untouched elsewhere). A whole field is copied. whole: Field(n, g); its
+// halo is exchanged (ghosts valid on return). block is read in the interior only.
 void gather_field(const Field& block, Field& whole, bool all);
-// This process's block of a whole field held by every process (interior only).
+// This process's block of a whole field held by every process. Interior only: block's ghosts
+// are not written.
 void take_block(const Field& whole, Field& block);
 
 }  // namespace cmcsurf

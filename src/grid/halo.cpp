@@ -1,6 +1,5 @@
 #include "grid/halo.h"
 
-#include <cassert>
 #include <cstring>
 
 #include "grid/field.h"
@@ -81,6 +80,8 @@ void apply_halo(const HaloPlan& plan, Field& field) {
 
 void apply_halo(const HaloPlan& plan, Field* const* fields, int nf) {
   const int g = plan.ghost;
+  for (int f = 0; f < nf; ++f)
+    CMCSURF_CHECK(fields[f]->size() == plan.size && fields[f]->ghost() == g);
   for (std::size_t s = 0; s < plan.slabs.size(); s += 2) {
     const HaloSlab& up = plan.slabs[s];        // low ghosts <- top interior
     const HaloSlab& down = plan.slabs[s + 1];  // high ghosts <- bottom interior
@@ -107,7 +108,6 @@ void apply_halo(const HaloPlan& plan, Field* const* fields, int nf) {
     double* recv_hi = recv_lo + count;
     for (int f = 0; f < nf; ++f) {
       const Field& field = *fields[f];
-      assert(field.size() == plan.size && field.ghost() == g);
       const double* d = field.data();
       double* out_hi = send_hi + f * face;
       double* out_lo = send_lo + f * face;

@@ -76,14 +76,31 @@ FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options
   }
 }
 
+void exchange_halos(Fields& u) {
+  constexpr std::size_t kMax = 8;
+  CMCSURF_CHECK(u.size() <= kMax);
+  if (u.empty()) return;
+  Field* fields[kMax];
+  for (std::size_t c = 0; c < u.size(); ++c) fields[c] = &u[c];
+  apply_halo(u[0].halo_plan(), fields, int(u.size()));
+}
+
+void FasSolver::vcycle(const FasOperator& op) {
+  exchange_halos(levels_[0].u);  // the caller filled the interior
+  cycle(op, 0);
+}
+
 double FasSolver::residual_norm(const FasOperator& op) {
   FasLevel& fine = levels_[0];
+  exchange_halos(fine.u);
   op.residual(fine.u, fine.rhs, fine.defect);
   return op.norm(fine.defect);
 }
 
-// Steps 1-9 of the FAS cycle in Appendix A.
+// Steps 1-9 of the FAS cycle in Appendix A. On entry and on return the level's u has valid
+// ghosts.
 void FasSolver::cycle(const FasOperator& op, int l) {
+  for (const Field& f : levels_[l].u) CMCSURF_DCHECK(halo_is_current(f));
   if (l + 1 == levels()) {
     solve_coarsest(op, l);
     return;
@@ -107,6 +124,7 @@ void FasSolver::cycle(const FasOperator& op, int l) {
     }
     copy_interior(coarse.u[c], coarse.u_start[c]);
   }
+  if (!gather) exchange_halos(coarse.u);  // gather_field exchanged them
   op.apply(coarse.u, coarse.defect);  // 4) coarse rhs = restricted defect + NSO(u_coarse)
   for (int c = 0; c < nc; ++c) {
     Field& rhs = coarse.rhs[c];
@@ -130,6 +148,7 @@ void FasSolver::cycle(const FasOperator& op, int l) {
       add_interpolated_correction(coarse.u[c], coarse.u_start[c], fine.u[c]);
     }
   }
+  exchange_halos(fine.u);  // the correction changed the interior only
   op.smooth(fine.u, fine.rhs, options_.post_sweeps);  // 9) postsmoothing
 }
 

@@ -13,21 +13,26 @@ namespace cmcsurf {
 using Fields = std::vector<Field>;
 
 // What the cycle needs from a discrete nonlinear operator A (the paper's NSO). Each call works
-// on one level; the level's mesh width is 1/u[0].n(). Kernels read ghost layers, so an operator
-// refreshes the halos of u it reads (u[c].exchange_halo()) itself.
+// on one level; the level's mesh width is 1/u[0].n(). Ghosts (docs/architecture.md): u arrives
+// with valid ghosts (the cycle exchanges them after every interior-only update), and smooth()
+// returns it with valid ghosts. rhs, out and defects are interior-only fields: their ghosts are
+// neither read nor written.
 class FasOperator {
  public:
   virtual ~FasOperator() = default;
   virtual int components() const = 0;
-  // out = A(u)
-  virtual void apply(Fields& u, Fields& out) const = 0;
-  // out = rhs - A(u)
-  virtual void residual(Fields& u, const Fields& rhs, Fields& out) const = 0;
-  // `sweeps` relaxation sweeps on A(u) = rhs.
+  // out = A(u) (interior of out only).
+  virtual void apply(const Fields& u, Fields& out) const = 0;
+  // out = rhs - A(u) (interior of out only).
+  virtual void residual(const Fields& u, const Fields& rhs, Fields& out) const = 0;
+  // `sweeps` relaxation sweeps on A(u) = rhs; u's ghosts are valid on return.
   virtual void smooth(Fields& u, const Fields& rhs, int sweeps) const = 0;
-  // Norm in which the cycle measures a defect.
+  // Norm in which the cycle measures a defect (interior only).
   virtual double norm(const Fields& defect) const = 0;
 };
+
+// Exchanges the halos of every component at once (one message per neighbour under MPI).
+void exchange_halos(Fields& u);
 
 struct FasOptions {
   int pre_sweeps = 2;           // beta of Appendix A
@@ -46,10 +51,10 @@ std::vector<int> coarsening_sizes(int n);
 std::string check_coarsenable(int n);
 
 struct FasLevel {
-  Fields u;        // current approximation
-  Fields rhs;      // right-hand side (source term on the finest level, FAS rhs below)
-  Fields defect;   // scratch: defect, then A(u_coarse)
-  Fields u_start;  // restricted approximation before the coarse solve (for the CGC)
+  Fields u;        // current approximation (valid ghosts between the cycle's steps)
+  Fields rhs;      // right-hand side (source term on the finest level, FAS rhs below); interior
+  Fields defect;   // scratch: defect, then A(u_coarse); interior
+  Fields u_start;  // restricted approximation before the coarse solve (for the CGC); interior
   // Only on the first level gathered onto every process below a level split among processes:
   // this process's block of the level (restriction target, then correction source).
   Fields block_u, block_v;
@@ -68,14 +73,16 @@ class FasSolver {
   int size(int level) const { return levels_[level].u[0].n(); }
   // Whether a level is split among processes (false everywhere on one process).
   bool distributed(int level) const { return levels_[level].u[0].decomposition() != nullptr; }
-  // Finest-level unknowns and right-hand side, to be filled by the caller.
+  // Finest-level unknowns and right-hand side, to be filled by the caller: the interiors only
+  // (vcycle() and residual_norm() exchange the halos of solution() first; rhs() is an
+  // interior-only field). solution() has valid ghosts after either call.
   Fields& solution() { return levels_[0].u; }
   const Fields& solution() const { return levels_[0].u; }
   Fields& rhs() { return levels_[0].rhs; }
   const FasOptions& options() const { return options_; }
 
   // One V-cycle on the finest level.
-  void vcycle(const FasOperator& op) { cycle(op, 0); }
+  void vcycle(const FasOperator& op);
   // Norm of rhs - A(u) on the finest level.
   double residual_norm(const FasOperator& op);
 

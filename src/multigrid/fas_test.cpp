@@ -8,9 +8,12 @@
 namespace cmcsurf {
 namespace {
 
+// The transfer twins on a 64^3 -> 32^3 pair: the kernels' loops run in parallel from
+// kParallelMinN fine cells per side (CTest runs them again with two threads).
 TEST(Multigrid, RestrictionMatchesReference) {
-  Field fine = testing::random_field(16, 1, -1, 1, 11);
-  Field a(8, 1), b(8, 1);
+  static_assert(64 >= kParallelMinN);
+  Field fine = testing::random_field(64, 1, -1, 1, 11);
+  Field a(32, 1), b(32, 1);
   restrict_average(fine, a);
   restrict_average_ref(fine, b);
   EXPECT_LE(testing::max_abs_diff(a, b), 1e-15);
@@ -24,15 +27,29 @@ TEST(Multigrid, RestrictionPreservesTheMean) {
 }
 
 TEST(Multigrid, InterpolatedCorrectionMatchesReference) {
-  Field c = testing::random_field(8, 1, -1, 1, 13);
-  Field c0 = testing::random_field(8, 1, -1, 1, 14);
-  Field f1 = testing::random_field(16, 1, -1, 1, 15);
-  Field f2 = f1;
+  Field c = testing::random_field(32, 1, -1, 1, 13);
+  Field c0 = testing::random_field(32, 1, -1, 1, 14);
+  const Field before = testing::random_field(64, 1, -1, 1, 15);
+  Field f1 = before, f2 = before;
   add_interpolated_correction(c, c0, f1);
   add_interpolated_correction_ref(c, c0, f2);
   EXPECT_EQ(testing::max_abs_diff(f1, f2), 0.0);
-  // Piecewise constant: the 8 children received the same correction.
-  EXPECT_DOUBLE_EQ(f1(2, 4, 6) - f2(2, 4, 6), 0.0);
+  // Piecewise constant: each of the 8 children of coarse cell (1, 2, 3) received that cell's
+  // correction c - c0.
+  const double correction = c(1, 2, 3) - c0(1, 2, 3);
+  ASSERT_NE(correction, 0.0);
+  for (int child = 0; child < 8; ++child) {
+    const int i = 2 + (child & 1), j = 4 + (child >> 1 & 1), k = 6 + (child >> 2 & 1);
+    EXPECT_NEAR(f1(i, j, k) - before(i, j, k), correction, 1e-15) << child;
+  }
+}
+
+// Transfers refuse a pair that is not a coarsening (always-on check).
+TEST(MultigridDeathTest, TransfersRefuseMismatchedLevels) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const Field fine = testing::random_field(16, 1, -1, 1, 16);
+  Field wrong(4, 1);
+  EXPECT_DEATH(restrict_average(fine, wrong), "check failed: is_coarsening");
 }
 
 TEST(Multigrid, CoarseningSizes) {
