@@ -1,6 +1,7 @@
 // Deterministic fields for the tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -32,15 +33,25 @@ inline Field gyroid_field(int n, int ghost) {
   return f;
 }
 
+// Largest difference of the interiors (same block, any ghost widths).
 inline double max_abs_diff(const Field& a, const Field& b) {
+  CMCSURF_CHECK(a.size() == b.size());
   double m = 0.0;
-  for_each_cell(a.n(), [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k) - b(i, j, k))); });
+  for_each_cell(a, [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k) - b(i, j, k))); });
   return m;
 }
 
+inline double max_abs(const Field& a) {
+  double m = 0.0;
+  for_each_cell(a, [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k))); });
+  return m;
+}
+
+// Plain mean of a whole field's interior (the reference for mean() in grid/field.h).
 inline double mean(const Field& a) {
+  CMCSURF_CHECK(a.whole());
   double s = 0.0;
-  for_each_cell(a.n(), [&](int i, int j, int k) { s += a(i, j, k); });
+  for_each_cell(a, [&](int i, int j, int k) { s += a(i, j, k); });
   return s / a.interior_size();
 }
 

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/temp_dir.h"
+#include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {

@@ -1,5 +1,5 @@
-// JSON reports: pretty-printed, written atomically; reading with errors that
-// name the file.
+// JSON reports: pretty-printed, written atomically. (Reading them back is test support:
+// tests/support/read_json.h.)
 #pragma once
 
 #include <filesystem>
@@ -13,9 +13,5 @@ namespace cmcsurf {
 // such values as strings or leave them out if they must survive. Invalid
 // UTF-8 in strings throws std::runtime_error.
 void write_json_atomic(const std::filesystem::path& path, const nlohmann::json& value);
-
-// Throws std::runtime_error naming the path on a missing/unreadable file or a
-// parse error (with nlohmann's line/column).
-nlohmann::json read_json(const std::filesystem::path& path);
 
 }  // namespace cmcsurf

@@ -9,7 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "io/atomic_file.h"
-#include "io/temp_dir.h"
+#include "support/read_json.h"
+#include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "io/atomic_file.h"
-#include "io/temp_dir.h"
+#include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/temp_dir.h"
+#include "support/temp_dir.h"
 
 #include <unistd.h>
 

@@ -1,5 +1,5 @@
-// A uniquely named scratch directory under the system temp directory,
-// removed with its contents on destruction (for tests and scratch output).
+// Test support (not part of the library): a uniquely named scratch directory under the system
+// temp directory, removed with its contents on destruction.
 #pragma once
 
 #include <filesystem>
