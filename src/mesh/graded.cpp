@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
+#include <utility>
 
 namespace cmcsurf {
 
@@ -11,10 +13,13 @@ double graded_target(const GradedRamp& ramp, const std::array<int, 3>& tiles, do
   return ramp.from_fraction + (ramp.to_fraction - ramp.from_fraction) * s / tiles[ramp.axis];
 }
 
-TiledSampler graded_sampler(const std::vector<GradedMember>& members, const GradedRamp& ramp,
+TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp& ramp,
                             const std::array<int, 3>& tiles) {
   if (members.size() < 2) throw std::invalid_argument("graded: needs at least two members");
   const int n = members[0].phi.n();
+  for (const GradedMember& m : members)
+    if (!m.phi.whole())
+      throw std::invalid_argument("graded: members must be whole grids, not blocks of a split one");
   for (std::size_t m = 1; m < members.size(); ++m) {
     if (members[m].phi.n() != n)
       throw std::invalid_argument(fmt::format("graded: members have grids {} and {}; all must match",
@@ -27,7 +32,10 @@ TiledSampler graded_sampler(const std::vector<GradedMember>& members, const Grad
     if (a < lo || a > hi)
       throw std::invalid_argument(fmt::format(
           "graded: volume fraction {} is outside the members' range [{:.4f}, {:.4f}]", a, lo, hi));
-  return [&members, ramp, tiles, n](int i, int j, int k) {
+  // Shared, so that copies of the sampler (a std::function) do not copy the fields.
+  auto owned = std::make_shared<const std::vector<GradedMember>>(std::move(members));
+  return [owned, ramp, tiles, n](int i, int j, int k) {
+    const std::vector<GradedMember>& members = *owned;
     const int idx[3] = {i, j, k};
     const double s = (idx[ramp.axis] + 0.5) / n;
     const double a = graded_target(ramp, tiles, s);

@@ -28,9 +28,11 @@ struct GradedRamp {
 // Linear ramp of the target volume fraction at position s (unit cells) in [0, tiles[axis]].
 double graded_target(const GradedRamp& ramp, const std::array<int, 3>& tiles, double s);
 
-// Sampler over the tiled cells. members: sorted by volume fraction, at least two, with the
-// ramp's end values inside their range (throws std::invalid_argument otherwise).
-TiledSampler graded_sampler(const std::vector<GradedMember>& members, const GradedRamp& ramp,
+// Sampler over the tiled cells. members: sorted by volume fraction, at least two, whole grids
+// of one N, with the ramp's end values inside their range (throws std::invalid_argument
+// otherwise). The sampler owns the members (pass them with std::move to avoid a copy), so it
+// stays valid after the caller's vector is gone or changed.
+TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp& ramp,
                             const std::array<int, 3>& tiles);
 
 // Per tile: the target at the tile's centre, the fraction of the tile's cells where the

@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 
-#include "io/temp_dir.h"
+#include "support/temp_dir.h"
 #include "measure/measures.h"
 #include "measure/sharp_volume.h"
 #include "pipeline/cmc.h"
@@ -223,17 +225,23 @@ TEST(MeshSheet, ThicknessIsAchieved) {
   EXPECT_NEAR(s.report["sheet"]["thickness_steiner"].get<double>(), 0.3, 0.03 * 0.3);
 }
 
-// Graded: members G + 1/2 + c at two offsets (different volume fractions); the ramp's blend is
-// continuous across tiles, so the network solid is closed, and the achieved fraction per
-// tile follows the target (within 2 %; measured at most 0.6 % at 16^3).
-TEST(MeshGraded, RampIsClosedAndFollowsTarget) {
-  const int n = 16;
+// Two graded members: G + 1/2 shifted by -0.4 and +0.4 (different volume fractions).
+std::vector<GradedMember> shifted_gyroids(int n) {
   std::vector<GradedMember> members(2);
   for (int m = 0; m < 2; ++m) {
     members[m].phi = nodal_field("G", n);
     for_each_cell(n, [&](int i, int j, int k) { members[m].phi(i, j, k) += m == 0 ? -0.4 : 0.4; });
     members[m].volume_fraction = volume_fraction(members[m].phi);
   }
+  return members;
+}
+
+// Graded: members G + 1/2 + c at two offsets (different volume fractions); the ramp's blend is
+// continuous across tiles, so the network solid is closed, and the achieved fraction per
+// tile follows the target (within 2 %; measured at most 0.6 % at 16^3).
+TEST(MeshGraded, RampIsClosedAndFollowsTarget) {
+  const int n = 16;
+  const std::vector<GradedMember> members = shifted_gyroids(n);
   GradedRamp ramp;
   ramp.axis = 2;
   ramp.from_fraction = members[0].volume_fraction;
@@ -254,11 +262,80 @@ TEST(MeshGraded, RampIsClosedAndFollowsTarget) {
   EXPECT_THROW(graded_sampler(members, ramp, tiles), std::invalid_argument);
 }
 
+// The sampler owns its members: changing or destroying the caller's vector afterwards (or
+// passing a temporary) does not change what it samples. A sampler that referred to the
+// caller's vector would return the overwritten values here (or read freed memory).
+TEST(MeshGraded, SamplerOutlivesTheMembersItWasGiven) {
+  const int n = 8;
+  const std::array<int, 3> tiles{1, 1, 2};
+  std::vector<GradedMember> members = shifted_gyroids(n);
+  GradedRamp ramp;
+  ramp.from_fraction = members[0].volume_fraction;
+  ramp.to_fraction = members[1].volume_fraction;
+  const TiledSampler f = graded_sampler(members, ramp, tiles);
+  std::vector<double> expected;
+  for_each_cell(n, [&](int i, int j, int k) { expected.push_back(f(i, j, 2 * k + 1)); });
+  ASSERT_NE(expected.front(), expected.back());
+  for (GradedMember& m : members) m.phi.fill(-7.0);
+  members.clear();
+  members.shrink_to_fit();
+  const TiledSampler g = graded_sampler(shifted_gyroids(n), ramp, tiles);  // from a temporary
+  std::vector<GradedMember> other = shifted_gyroids(n);
+  for (GradedMember& m : other) m.phi.fill(-7.0);
+  std::size_t c = 0;
+  for_each_cell(n, [&](int i, int j, int k) {
+    EXPECT_EQ(f(i, j, 2 * k + 1), expected[c]) << i << " " << j << " " << k;
+    EXPECT_EQ(g(i, j, 2 * k + 1), expected[c]) << i << " " << j << " " << k;
+    ++c;
+  });
+}
+
 TEST(MeshWriters, Crc32AndZip) {
   EXPECT_EQ(crc32("123456789"), 0xCBF43926u);  // the CRC-32 check value
   const std::string zip = make_stored_zip({{"a.txt", "hello"}});
   EXPECT_EQ(zip.substr(0, 4), std::string("PK\x03\x04", 4));
   EXPECT_NE(zip.find(std::string("PK\x05\x06", 4)), std::string::npos);
+}
+
+std::size_t count_occurrences(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++count;
+  return count;
+}
+
+// The entries of a stored (method 0) zip, walked through its local file headers, each checked
+// against its CRC-32 and against the central directory's count in the end record. ADD_FAILURE
+// and an empty map on anything malformed.
+std::map<std::string, std::string> read_stored_zip(const std::string& zip) {
+  auto byte = [&](std::size_t i) { return i < zip.size() ? unsigned(std::uint8_t(zip[i])) : 0u; };
+  auto u16 = [&](std::size_t at) { return byte(at) | byte(at + 1) << 8; };
+  auto u32 = [&](std::size_t at) { return std::uint32_t(u16(at) | u16(at + 2) << 16); };
+  std::map<std::string, std::string> entries;
+  std::size_t at = 0;
+  while (u32(at) == 0x04034b50u) {  // local file header
+    const unsigned method = u16(at + 8);
+    const std::uint32_t crc = u32(at + 14), packed = u32(at + 18), size = u32(at + 22);
+    const std::size_t name_len = u16(at + 26), extra_len = u16(at + 28);
+    const std::size_t data_at = at + 30 + name_len + extra_len;
+    if (method != 0 || packed != size || data_at + size > zip.size()) {
+      ADD_FAILURE() << "bad local header at " << at;
+      return {};
+    }
+    const std::string name = zip.substr(at + 30, name_len), data = zip.substr(data_at, size);
+    EXPECT_EQ(crc32(data), crc) << name;
+    entries[name] = data;
+    at = data_at + size;
+  }
+  const std::size_t end = zip.size() - 22;  // end of central directory record, no comment
+  if (zip.size() < 22 || u32(end) != 0x06054b50u || u32(at) != 0x02014b50u) {
+    ADD_FAILURE() << "no central directory after the entries, or no end record";
+    return {};
+  }
+  EXPECT_EQ(u16(end + 10), entries.size());  // entries in the central directory
+  EXPECT_EQ(u32(end + 16), at);              // where it starts
+  EXPECT_EQ(u32(end + 12), end - at);        // its size
+  return entries;
 }
 
 TEST(MeshWriters, FileSizesMatchCounts) {
@@ -280,7 +357,19 @@ TEST(MeshWriters, FileSizesMatchCounts) {
   const std::size_t body = bytes.size() - (bytes.find("end_header\n") + 11);
   EXPECT_EQ(body, 12 * m.vertices.size() + 13 * m.triangles.size());
   write_3mf(dir / "a.3mf", m, "mm");
-  EXPECT_GT(std::filesystem::file_size(dir / "a.3mf"), 100u);
+  std::ifstream in3mf(dir / "a.3mf", std::ios::binary);
+  const std::string zip((std::istreambuf_iterator<char>(in3mf)), {});
+  const std::map<std::string, std::string> entries = read_stored_zip(zip);
+  ASSERT_EQ(entries.size(), 3u);
+  ASSERT_TRUE(entries.count("[Content_Types].xml"));
+  ASSERT_TRUE(entries.count("_rels/.rels"));
+  ASSERT_TRUE(entries.count("3D/3dmodel.model"));
+  EXPECT_NE(entries.at("_rels/.rels").find("Target=\"/3D/3dmodel.model\""), std::string::npos);
+  const std::string& model = entries.at("3D/3dmodel.model");
+  EXPECT_NE(model.find("unit=\"millimeter\""), std::string::npos);
+  EXPECT_EQ(count_occurrences(model, "<vertex "), m.vertices.size());
+  EXPECT_EQ(count_occurrences(model, "<triangle "), m.triangles.size());
+  EXPECT_EQ(count_occurrences(model, "</model>"), 1u);
   EXPECT_THROW(write_stl(dir / "p.stl", periodic_surface_mesh(phi)), std::invalid_argument);
 }
 
