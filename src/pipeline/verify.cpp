@@ -1,10 +1,15 @@
 #include "pipeline/verify.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <stdexcept>
 
 #include "measure/measures.h"
+#include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -34,6 +39,8 @@ TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::u
   p.tol = 0.0;  // run to t_end
   p.max_steps = int(std::lround(t_end / 0.05));
   out.run = relax_field(phi0, p, progress);
+  if (!out.run.phi.whole())
+    throw std::logic_error("verify_transition_layer: the result is a block of a split grid");
 
   // Along x at j = k = 0: the 0.5 crossings, then for each the 0.1 and 0.9 crossings searched
   // only up to the neighbouring 0.5 crossings (a layer whose neighbours are too close for the
@@ -95,6 +102,9 @@ TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::u
 }
 
 double level_radius(const Field& phi, double dx, double dy, double dz) {
+  if (!phi.whole()) throw std::logic_error("level_radius on a block of a split grid");
+  CMCSURF_CHECK(phi.ghost() >= 1);
+  CMCSURF_DCHECK(halo_is_current(phi));
   const int n = phi.n();
   const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
   dx /= len;
@@ -140,8 +150,11 @@ RunParams direct_relaxation(const char* surface, int n, double epsilon, double t
   return p;
 }
 
-double sphericity(const Measures& m) {
-  return std::cbrt(M_PI) * std::pow(6.0 * m.volume_fraction, 2.0 / 3.0) / m.area;
+// pi^(1/3) (6 V)^(2/3) / A with V the sharp volume of {phi > 1/2} and A the diffuse area of
+// Appendix B.
+double sphericity(const Field& phi, double epsilon) {
+  return std::cbrt(M_PI) * std::pow(6.0 * sharp_volume_fraction(phi), 2.0 / 3.0) /
+         area(phi, epsilon);
 }
 
 double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
@@ -158,9 +171,9 @@ double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
 
 }  // namespace
 
-CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
+CubeToSphereResult verify_cube_to_sphere(int n, double epsilon, int max_steps, double tol,
                                          const ProgressFn& progress) {
-  const RunParams p = direct_relaxation("cube", n, 0.015 * 64.0 / n, tol, max_steps);
+  const RunParams p = direct_relaxation("cube", n, epsilon, tol, max_steps);
   InitialFieldParams init;
   init.surface = "cube";
   Field cube = make_initial_field(init, n, 2);
@@ -169,8 +182,8 @@ CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
   out.run = relax_field(cube, p, progress);
   // The diffuse area measure means nothing on the sharp 0/1 cube: use the geometric value.
   out.sphericity_initial = std::cbrt(M_PI) * std::pow(6.0 * 0.125, 2.0 / 3.0) / 1.5;
-  out.sphericity_final = sphericity(out.run.final);
   out.run.phi.exchange_halo();
+  out.sphericity_final = sphericity(out.run.phi, p.epsilon);
   out.radius_ratio_final = axis_to_diagonal_radius(out.run.phi, &out.mean_radius_final);
   return out;
 }
@@ -178,16 +191,114 @@ CubeToSphereResult verify_cube_to_sphere(int n, int max_steps, double tol,
 SphereConvergenceRow verify_sphere(int n, double tol, int max_steps, const ProgressFn& progress) {
   RunParams p = direct_relaxation("sphere", n, 0.0073 * 64.0 / n, tol, max_steps);
   p.radius = 0.25;
-  const RunResult r = run_cmc(p, progress);
+  RunResult r = run_cmc(p, progress);
+  r.phi.exchange_halo();
   SphereConvergenceRow row;
   row.n = n;
   row.epsilon = p.epsilon;
-  row.area = r.final.area_diffuse;  // Table 1 is stated in Appendix B's estimators
-  row.total_mean_curvature = r.final.total_mean_curvature_diffuse;
-  row.mean_curvature_mu = r.final.mean_curvature_mu;
+  row.area = area(r.phi, p.epsilon);  // Appendix B, as in Table 1
+  row.total_mean_curvature = mean_curvature(r.phi) * row.area;
+  row.mean_curvature_mu = mean_curvature_mu(r.phi, p.epsilon);
   row.steps = r.steps;
+  row.converged = r.converged;
   row.wall_seconds = r.wall_seconds;
   return row;
+}
+
+const std::vector<Table1Reference>& table1_reference() {
+  static const std::vector<Table1Reference> paper = {
+      {32, 0.42403, 2.25072}, {64, 0.66323, 2.89797}, {128, 0.73742, 3.06842},
+      {256, 0.76923, 3.13601}};
+  return paper;
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// value within rel (a fraction) of expected.
+VerifyCheck relative(std::string name, double value, double expected, double rel,
+                     std::string basis) {
+  const double d = rel * std::abs(expected);
+  return {std::move(name), value, expected, expected - d, expected + d, std::move(basis)};
+}
+
+VerifyCheck flag(std::string name, bool value, std::string basis) {
+  return {std::move(name), value ? 1.0 : 0.0, 1.0, 1.0, 1.0, std::move(basis)};
+}
+
+}  // namespace
+
+// Tolerances: docs/verification.md, "Checks and tolerances".
+std::vector<VerifyCheck> transition_checks(const TransitionLayerResult& r) {
+  const std::string m = fmt::format("m={}", r.m);
+  std::vector<VerifyCheck> out;
+  out.push_back({m + ": formed interfaces", double(r.interfaces), double(r.crossings), 1.0,
+                 kInf, "at least one layer reaches 0.1 and 0.9"});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.push_back(relative(m + ": 0.1->0.9 width (cells)",
+                         r.interfaces > 0 ? r.mean_width_cells : nan,
+                         r.m * std::atanh(0.8) / std::atanh(0.9), 0.05,
+                         "tanh profile; measured within 1.1 %"));
+  out.push_back(relative(m + ": 0.05->0.95 width (cells)",
+                         r.interfaces > 0 ? r.mean_width_cells_05 : nan, double(r.m), 0.10,
+                         "the paper's m cells; measured within 5 %"));
+  return out;
+}
+
+double cube_sphere_radius() { return std::cbrt(3.0 * 0.125 / (4.0 * M_PI)); }
+
+std::vector<VerifyCheck> cube_checks(const CubeToSphereResult& r, int max_steps) {
+  std::vector<VerifyCheck> out;
+  out.push_back(flag(fmt::format("relaxed within {} steps", max_steps), r.run.converged,
+                     "||dphi|| <= 1e-5 reached"));
+  const double r0 = cube_sphere_radius();
+  out.push_back({"mean radius of phi=1/2", r.mean_radius_final, r0, 0.8 * r0, r0,
+                 "a ball below the cube's volume; measured 0.91"});
+  out.push_back({"axis/diagonal radius of phi=1/2", r.radius_ratio_final, 1.0, 0.98, 1.02,
+                 "round (cube: 0.577); measured 0.989-0.996"});
+  out.push_back({"sphericity", r.sphericity_final, 1.0, 0.97, 1.06,
+                 "1 over the diffuse area's low bias"});
+  return out;
+}
+
+std::vector<VerifyCheck> table1_checks(const std::vector<SphereConvergenceRow>& rows) {
+  const auto& paper = table1_reference();
+  auto paper_row = [&](int n) -> const Table1Reference* {
+    for (const auto& p : paper)
+      if (p.n == n) return &p;
+    return nullptr;
+  };
+  std::vector<VerifyCheck> out;
+  for (const auto& row : rows) {
+    const Table1Reference* ref = paper_row(row.n);
+    out.push_back(flag(fmt::format("N={}: relaxed", row.n), row.converged,
+                       "||dphi|| <= 1e-5 reached"));
+    if (!ref) continue;
+    out.push_back(relative(fmt::format("N={}: area", row.n), row.area, ref->area, 0.015,
+                           "paper; measured within 0.5 %"));
+    out.push_back(relative(fmt::format("N={}: total mean curvature", row.n),
+                           row.total_mean_curvature, ref->total_mean_curvature, 0.015,
+                           "paper; measured within 0.4 %"));
+  }
+  // Rates log2(e_h / e_{h/2}) against the exact sphere, beside the paper's.
+  auto rate = [](double exact, double coarse, double fine) {
+    return std::log2(std::abs(exact - coarse) / std::abs(exact - fine));
+  };
+  for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+    const Table1Reference* a = paper_row(rows[i].n);
+    const Table1Reference* b = paper_row(rows[i + 1].n);
+    if (!a || !b || rows[i + 1].n != 2 * rows[i].n) continue;
+    const std::string span = fmt::format("{}->{}", rows[i].n, rows[i + 1].n);
+    const double pa = rate(M_PI / 4, a->area, b->area);
+    const double pt = rate(M_PI, a->total_mean_curvature, b->total_mean_curvature);
+    out.push_back({"area rate " + span, rate(M_PI / 4, rows[i].area, rows[i + 1].area), pa,
+                   pa - 0.5, pa + 0.5, "paper's rate; measured within 0.05"});
+    out.push_back({"total mean curvature rate " + span,
+                   rate(M_PI, rows[i].total_mean_curvature, rows[i + 1].total_mean_curvature),
+                   pt, pt - 0.5, pt + 0.5, "paper's rate; measured within 0.2"});
+  }
+  return out;
 }
 
 }  // namespace cmcsurf
