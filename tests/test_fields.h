@@ -34,6 +34,18 @@ inline Field gyroid_field(int n, int ghost) {
 }
 
 // Largest difference of the interiors (same block, any ghost widths).
+// f(x, y, z) at the cell centres ((i + 1/2) h, ...) of an n^3 grid, halo exchanged.
+template <class F>
+Field sample_at_centres(int n, int ghost, F f) {
+  Field phi(n, ghost);
+  const double h = 1.0 / n;
+  for_each_cell(n, [&](int i, int j, int k) {
+    phi(i, j, k) = f((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
+  });
+  phi.exchange_halo();
+  return phi;
+}
+
 inline double max_abs_diff(const Field& a, const Field& b) {
   CMCSURF_CHECK(a.size() == b.size());
   double m = 0.0;

@@ -1,5 +1,8 @@
 #include "grid/field.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -146,6 +149,12 @@ void take_block(const Field& whole, Field& block) {
   for (int k = 0; k < block.nz(); ++k)
     for (int j = 0; j < block.ny(); ++j)
       std::memcpy(&block(0, j, k), &whole(o[0], o[1] + j, o[2] + k), sizeof(double) * block.nx());
+}
+
+void require_ghost(const Field& f, int needed, const char* who) {
+  if (f.ghost() < needed)
+    throw std::invalid_argument(std::string(who) + ": needs ghost >= " + std::to_string(needed) +
+                                ", got " + std::to_string(f.ghost()));
 }
 
 }  // namespace cmcsurf

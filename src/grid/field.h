@@ -157,6 +157,10 @@ void copy_interior(const Field& src, Field& dst);
 // Adds c to every value, ghosts included: valid ghosts stay valid.
 void add_constant(Field& f, double c);
 
+// A stencil that reads `needed` ghost layers refuses a narrower field: throws
+// std::invalid_argument naming `who`, the width needed and the width given.
+void require_ghost(const Field& f, int needed, const char* who);
+
 // Mean of the interior values over the whole grid (the per-process sums are added over the
 // processes; every process gets the same value). For phi this is the conserved mass.
 double mean(const Field& f);

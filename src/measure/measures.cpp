@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "grid/check.h"
 #include "grid/stencil.h"
 
 namespace cmcsurf {
@@ -19,13 +20,6 @@ constexpr double kSixSqrt2 = 6.0 * std::numbers::sqrt2;
 // normal is set to zero instead of dividing 0 by 0. Such vertices lie in bulk phase, where the
 // weight |grad_d phi|^2 is negligible anyway.
 constexpr double kFlatVertex = 1e-12;
-
-// Stencils need `needed` ghost layers; a narrower halo is a programming error of the caller.
-void require_ghost(const Field& phi, int needed, const char* who) {
-  if (phi.ghost() < needed)
-    throw std::invalid_argument(std::string(who) + ": needs ghost >= " + std::to_string(needed) +
-                                ", got " + std::to_string(phi.ghost()));
-}
 
 // Sum over interior cells of term(p), p pointing at the cell in phi's padded storage:
 // OpenMP over k planes, unit-stride SIMD loop over i.
@@ -114,9 +108,7 @@ void vertex_normals(const Field& phi, int kv, VertexPlane& out) {
 
 }  // namespace
 
-double mass(const Field& phi) {
-  return sum_cells(phi, [](const double* p) { return p[0]; }) / phi.global_cells();
-}
+double mass(const Field& phi) { return mean(phi); }
 
 double volume_fraction(const Field& phi) {
   return sum_cells(phi, [](const double* p) { return p[0] > 0.5 ? 1.0 : 0.0; }) /
@@ -150,6 +142,7 @@ double l2_diff(const Field& a, const Field& b) {
 // Section 2.2: F = 6 sqrt2 sum [W/eps + eps/2 |grad_h phi|^2] h^3, forward face differences.
 double energy(const Field& phi, double epsilon) {
   require_ghost(phi, 1, "energy");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double c_grad = 0.5 * epsilon / (h * h);
@@ -164,6 +157,7 @@ double energy(const Field& phi, double epsilon) {
 // Appendix B: A = sum 6 sqrt2 eps |grad_d phi|^2 h^3.
 double area(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "area");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double sum = sum_cells(phi, [=](const double* p) { return grad4_sq_scaled(p, sy, sz); });
@@ -201,6 +195,7 @@ double area_ref(const Field& phi, double epsilon) {
 // k planes, keeping the vertex planes below and above the current cell plane.
 double mean_curvature(const Field& phi) {
   require_ghost(phi, 2, "mean_curvature");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz(), nv = nx + 1;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
@@ -297,6 +292,7 @@ double mean_curvature_ref(const Field& phi) {
 // nu = W'(phi) - eps^2 Lap_d phi (7-point Laplacian of Section 3).
 double mean_curvature_mu(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "mean_curvature_mu");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double inv_h2 = 1.0 / (h * h);

@@ -8,22 +8,17 @@
 #include <stdexcept>
 #include <utility>
 
+#include "../tests/test_fields.h"
+
 namespace cmcsurf {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kSqrt2 = std::numbers::sqrt2;
 
-// Field sampled at cell centres ((i + 1/2) h, ...), halo exchanged.
 template <class F>
 Field sample(int n, int ghost, F f) {
-  Field phi(n, ghost);
-  const double h = 1.0 / n;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) phi(i, j, k) = f((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
-  phi.exchange_halo();
-  return phi;
+  return testing::sample_at_centres(n, ghost, f);
 }
 
 // The tanh profile q(d / (2 sqrt2 eps)) of Section 2.5, d = signed distance, > 0 in phase 1.

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "grid/check.h"
 #include "grid/kuhn.h"
 #include "multigrid/transfer.h"
 
@@ -17,12 +18,6 @@ namespace {
 constexpr double kClamp = 1.0 - 1e-12;
 // Below this |grad psi|^2 (in index units) a cell has no normal; its curvature is 0.
 constexpr double kFlat = 1e-24;
-
-void require_ghost(const Field& f, int needed, const char* who) {
-  if (f.ghost() < needed)
-    throw std::invalid_argument(std::string(who) + ": needs ghost >= " + std::to_string(needed) +
-                                ", got " + std::to_string(f.ghost()));
-}
 
 // Calls emit(area, centroid) for the triangles of the zero set of the Kuhn interpolant of the
 // eight corner values s (psi > 0 is inside) in a unit cube; the quad of a tetrahedron cut
@@ -153,6 +148,7 @@ double level_set_mean_curvature(const double* p, std::ptrdiff_t sy, std::ptrdiff
 
 LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>* samples) {
   require_ghost(psi, 2, "level_set_surface");
+  CMCSURF_DCHECK(halo_is_current(psi));
   const int nx = psi.nx(), ny = psi.ny(), nz = psi.nz();
   const std::ptrdiff_t sy = psi.stride_y(), sz = psi.stride_z();
   const std::ptrdiff_t off[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};

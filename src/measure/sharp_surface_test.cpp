@@ -5,21 +5,16 @@
 #include <cmath>
 #include <numbers>
 
+#include "../tests/test_fields.h"
+
 namespace cmcsurf {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Field sampled at cell centres ((i + 1/2) h, ...), halo exchanged.
 template <class F>
 Field sample(int n, F f) {
-  Field phi(n, 2);
-  const double h = 1.0 / n;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) phi(i, j, k) = f((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
-  phi.exchange_halo();
-  return phi;
+  return testing::sample_at_centres(n, 2, f);
 }
 
 // Equilibrium profile of Section 2.5 around a surface at signed distance d (> 0 in phase 1).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "grid/check.h"
 #include "grid/kuhn.h"
 #include "grid/stencil.h"
 
@@ -53,7 +54,8 @@ double tet_fraction_above(const double g[4]) {
 }
 
 double linear_volume_fraction(const Field& phi, double level) {
-  if (phi.ghost() < 1) throw std::invalid_argument("linear_volume_fraction: needs ghost >= 1");
+  require_ghost(phi, 1, "linear_volume_fraction");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const std::ptrdiff_t off[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
@@ -95,7 +97,8 @@ double linear_volume_fraction_ref(const Field& phi) {
 }
 
 void curvature_corrected(const Field& phi, Field& psi) {
-  if (phi.ghost() < 2) throw std::invalid_argument("curvature_corrected: needs ghost >= 2");
+  require_ghost(phi, 2, "curvature_corrected");
+  CMCSURF_DCHECK(halo_is_current(phi));
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z(), sd = 1 + sy + sz;
 #pragma omp parallel for schedule(static)

@@ -75,7 +75,7 @@ TEST(SharpVolume, TetFractionMatchesQuadrature) {
 
 TEST(SharpVolume, MatchesReferenceOnRandomField) {
   for (unsigned seed : {1u, 2u}) {
-    const Field phi = testing::random_field(12, 2, -0.2, 1.2, seed);
+    const Field phi = testing::random_field(kParallelMinN + 8, 2, -0.2, 1.2, seed);
     EXPECT_NEAR(linear_volume_fraction(phi), linear_volume_fraction_ref(phi), 1e-13);
     EXPECT_NEAR(sharp_volume_fraction(phi), sharp_volume_fraction_ref(phi), 1e-13);
   }

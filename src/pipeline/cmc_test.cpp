@@ -45,6 +45,9 @@ RunParams small_gyroid(double alpha) {
   return p;
 }
 
+// The pipeline holds the mass: the solver's own conservation (to its defect) and the stepper's
+// removal of the drift are tested apart in cahn_hilliard/operator_test.cpp
+// (MassSolverConservesToItsDefect, MassRestoreRemovesTheDrift); here the two together.
 TEST(Pipeline, EnergyDecreasesAndMassIsConserved) {
   const RunResult r = run_cmc(small_gyroid(0.35));
   ASSERT_GT(r.history.size(), 10u);
