@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """End-to-end benchmark: cmcsurf run on P, D, G with the paper's settings.
 
-Prints per surface: wall time, steps, V-cycles, V-cycles per step, time per V-cycle and the
+Prints per surface: the whole command's time (process start to exit, every file written), the
+solve's wall time (report.json `wall_seconds`), the post-solve stages (`measure_seconds`,
+`quality_seconds`), steps, V-cycles, V-cycles per step, time per V-cycle and the
 achieved bandwidth of a V-cycle (its minimum traffic / its time), beside a STREAM-like triad
 measured by cmcsurf_bench in the same invocation, so every figure is also a ratio.
 
@@ -22,6 +24,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import time
 
 # Minimum finest-level traffic of one V-cycle in bytes per cell (see bench/kernels_bench.cpp):
 # 4 smoothing sweeps x 48 + defect 48 + restrictions 2 x 9 + corrections 2 x 18 + the defect
@@ -62,7 +65,8 @@ def main():
         variants[label] = opts.split()
         if label not in modes:
             modes.append(label)
-    print(f"{'surface':>7} {'N':>5} {'mode':>10} {'wall s':>8} {'steps':>6} {'V-cyc':>6} "
+    print(f"{'surface':>7} {'N':>5} {'mode':>10} {'cmd s':>7} {'wall s':>8} {'meas s':>6} "
+          f"{'qual s':>6} {'steps':>6} {'V-cyc':>6} "
           f"{'V/step':>6} {'ms/V':>8} {'GB/s':>6} {'triad':>6} {'ratio':>6} {'B/cell':>7} "
           f"{'area':>10} {'vs faithful':>11}")
     for n in [int(x) for x in a.grids.split(",")]:
@@ -77,7 +81,9 @@ def main():
                            "--tol", a.tol, "--volume-fraction", a.volume_fraction,
                            "--threads", str(a.threads), "--quiet", "--out", d]
                     cmd += variants[mode] + a.extra.split()
+                    t0 = time.perf_counter()
                     subprocess.run(cmd, check=True)
+                    command_seconds = time.perf_counter() - t0
                     r = json.load(open(os.path.join(d, "report.json")))
                 spv = r["seconds_per_vcycle"]
                 steps = r["steps"] + r["prerelax_steps"] + r["coarse_steps"]
@@ -90,7 +96,9 @@ def main():
                     bw_text = f"{'-':>6} {triad / 1e9:>6.2f} {'-':>6}"
                 diff = (f"{r['area'] / faithful_area - 1:>+11.1e}"
                         if mode != "faithful" and faithful_area else f"{'':>11}")
-                print(f"{s:>7} {n:>5} {mode:>10} {r['wall_seconds']:>8.2f} {steps:>6} "
+                print(f"{s:>7} {n:>5} {mode:>10} {command_seconds:>7.2f} {r['wall_seconds']:>8.2f} "
+                      f"{r.get('measure_seconds', 0.0):>6.2f} {r.get('quality_seconds', 0.0):>6.2f} "
+                      f"{steps:>6} "
                       f"{r['vcycles']:>6} {r['vcycles_per_step']:>6.2f} {1e3 * spv:>8.2f} "
                       f"{bw_text} {r['peak_memory_bytes_per_cell']:>7.0f} {r['area']:>10.6f} "
                       f"{diff}", flush=True)

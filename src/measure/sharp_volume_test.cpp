@@ -16,13 +16,7 @@ constexpr double kPi = std::numbers::pi;
 
 template <class F>
 Field sample(int n, int ghost, F f) {
-  Field phi(n, ghost);
-  const double h = 1.0 / n;
-  for_each_cell(n, [&](int i, int j, int k) {
-    phi(i, j, k) = f((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
-  });
-  phi.exchange_halo();
-  return phi;
+  return testing::sample_at_centres(n, ghost, f);
 }
 
 // Fraction of the tetrahedron where sum_a lambda_a g_a > 0, by the midpoint rule on the
