@@ -306,11 +306,19 @@ void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const F
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const int k0 = int(std::int64_t(n) * t / nt), k1 = int(std::int64_t(n) * (t + 1) / nt);
-    for (int k = k0; k < k1; ++k) {
-      relax_plane(k, 0);  // colour 0 reads old colour 1 on planes k-1, k, k+1
+    // Each plane's x/y ghosts are refreshed after each of its colours, while the plane is
+    // still in cache, so the sweep returns with valid ghosts without a halo pass of its own.
+    auto wrap_xy = [&](int k) {
       wrap_plane_xy(phi, k);
       wrap_plane_xy(nu, k);
-      if (k - 1 > k0) relax_plane(k - 1, 1);  // colour 0 of k-2, k-1, k is done
+    };
+    for (int k = k0; k < k1; ++k) {
+      relax_plane(k, 0);  // colour 0 reads old colour 1 on planes k-1, k, k+1
+      wrap_xy(k);
+      if (k - 1 > k0) {
+        relax_plane(k - 1, 1);  // colour 0 of k-2, k-1, k is done
+        wrap_xy(k - 1);
+      }
     }
     // The slab's first and last planes need colour 0 of the neighbouring slabs (or of the
     // periodic image).
@@ -321,9 +329,18 @@ void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const F
       wrap_planes_z(nu);
     }
     relax_plane(k0, 1);
-    if (k1 - 1 > k0) relax_plane(k1 - 1, 1);
+    wrap_xy(k0);
+    if (k1 - 1 > k0) {
+      relax_plane(k1 - 1, 1);
+      wrap_xy(k1 - 1);
+    }
+#pragma omp barrier
+#pragma omp single
+    {  // planes 0 and n - 1 changed after the first z wrap
+      wrap_planes_z(phi);
+      wrap_planes_z(nu);
+    }
   }
-  exchange_halos(phi, nu);  // colour 1 was relaxed after its planes' wraps
 }
 
 namespace {
