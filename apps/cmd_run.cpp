@@ -74,7 +74,7 @@ nlohmann::json rank_keys(const Decomposition& world) {
   return ranks;
 }
 
-void print_summary(const RunResult& r, const CmcQuality& quality,
+void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
                    const nlohmann::json& report, const std::filesystem::path& dir) {
   std::cerr << fmt::format(
       "{} after {} steps ({} V-cycles, {:.2f} V-cycles/step, {:.2f} ms/V-cycle) in {:.2f} s\n",
@@ -91,6 +91,15 @@ void print_summary(const RunResult& r, const CmcQuality& quality,
       quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
       r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
       dir.string());
+  if (p.epsilon * p.grid < 1.0) {  // docs/method.md, "Sharp measures": where they are weak
+    int finer = p.grid;
+    while (p.epsilon * finer < 1.28) finer *= 2;
+    std::cerr << fmt::format(
+        "note: epsilon = {:.2f} h under-resolves the interface, so the curvature figures are "
+        "good to a few % only (see the +- estimates); --epsilon {:.3g} or --grid {} resolves "
+        "it (epsilon >= 1.28 h)\n",
+        p.epsilon * p.grid, 1.28 / p.grid, finer);
+  }
 }
 
 void print_warnings(const RunParams& p, const RunResult& r) {
@@ -141,7 +150,7 @@ int run(RunCommand& cmd) {
       dir, p, r, field, quality, threads, cmd.float32, rank_keys(*world), [&] {
         if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
       });
-  if (!cmd.quiet) print_summary(r, quality, report, dir);
+  if (!cmd.quiet) print_summary(p, r, quality, report, dir);
   print_warnings(p, r);
   return 0;
 }
