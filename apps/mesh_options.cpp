@@ -121,11 +121,12 @@ Field load_phi(const std::string& from, const std::string& option) {
   if (!std::filesystem::is_regular_file(path))
     throw UsageError(fmt::format("{}: '{}' is neither a run directory with field.vti nor a .vti file",
                                  option, from));
-  VtiData data = read_vti(path, 2);
-  auto it = data.arrays.find("phi");
-  if (it == data.arrays.end()) it = data.arrays.begin();
-  if (it == data.arrays.end()) throw std::runtime_error(fmt::format("{}: no arrays", path.string()));
-  return std::move(it->second);
+  VtiReadOptions options;
+  options.ghost = 2;
+  options.max_n = kMaxCellsPerAxis;  // refused before anything is allocated
+  options.only = "phi";              // the phase field cmcsurf writes; no other array is read
+  VtiData data = read_vti(path, options);
+  return std::move(data.arrays.at("phi"));
 }
 
 void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const MeshPlan& plan,

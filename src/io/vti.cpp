@@ -1,5 +1,6 @@
 #include "io/vti.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cctype>
@@ -15,6 +16,7 @@
 #include <string_view>
 #include <system_error>
 #include <type_traits>
+#include <utility>
 
 #include <fmt/core.h>
 
@@ -523,6 +525,12 @@ void write_vti(const std::filesystem::path& path, const std::vector<VtiArray>& a
 }
 
 VtiData read_vti(const std::filesystem::path& path, int ghost) {
+  VtiReadOptions options;
+  options.ghost = ghost;
+  return read_vti(path, options);
+}
+
+VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& options) {
   HeaderParser parser(path);
   std::error_code ec;
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
@@ -530,36 +538,77 @@ VtiData read_vti(const std::filesystem::path& path, int ghost) {
   std::ifstream in(path, std::ios::binary);
   if (!in) parser.fail(std::strerror(errno));
 
-  // Read a growing prefix until the header parses up to the '_' marker.
+  // Read a growing prefix until the header parses up to the '_' marker, at most
+  // kMaxVtiHeaderBytes.
   std::string text;
   std::size_t chunk = 1 << 16;
   while (true) {
     const std::size_t old = text.size();
+    chunk = std::min(chunk, kMaxVtiHeaderBytes - old);
     text.resize(old + chunk);
     in.read(text.data() + old, static_cast<std::streamsize>(chunk));
     text.resize(old + static_cast<std::size_t>(in.gcount()));
     const bool at_eof = !in;
     if (parser.parse(text, at_eof)) break;
+    if (text.size() >= kMaxVtiHeaderBytes)
+      parser.fail(fmt::format("no '_' marker of <AppendedData encoding=\"raw\"> in the first {} "
+                              "bytes; cmcsurf reads raw appended VTI files with a header below "
+                              "that size",
+                              kMaxVtiHeaderBytes));
     chunk = text.size();
   }
   if (parser.arrays().empty()) parser.fail("no PointData arrays found");
   const int n = parser.n();
-  if (ghost < 0 || ghost > n)
-    throw std::invalid_argument(fmt::format("read_vti: ghost width {} for N={}", ghost, n));
+  if (n > options.max_n)
+    parser.fail(fmt::format("N = {} exceeds the limit {} of this command", n, options.max_n));
+  if (options.ghost < 0 || options.ghost > n)
+    throw std::invalid_argument(fmt::format("read_vti: ghost width {} for N={}", options.ghost, n));
+
+  std::vector<ArrayInfo> wanted;
+  if (!options.only.empty()) {
+    std::string names;
+    for (const ArrayInfo& a : parser.arrays()) {
+      if (a.name == options.only) wanted.push_back(a);
+      names += (names.empty() ? "'" : ", '") + a.name + "'";
+    }
+    if (wanted.empty())
+      parser.fail(fmt::format("no array '{}' (found {})", options.only, names));
+  } else {
+    wanted = parser.arrays();
+  }
+  const int hb = parser.header_bytes();
+  auto byte_range = [&](const ArrayInfo& a) {
+    const std::uint64_t expected = std::uint64_t(n) * n * n * (a.float32 ? 4 : 8);
+    const std::uint64_t begin = parser.data_start() + a.offset;
+    return std::pair{begin, begin + hb + expected};
+  };
+  // Every array's bytes lie in the file, and no two arrays share bytes.
+  struct Range {
+    std::uint64_t begin, end;
+    std::string name;
+  };
+  std::vector<Range> ranges;
+  for (const ArrayInfo& a : parser.arrays()) {
+    const auto [begin, end] = byte_range(a);
+    if (begin + hb > file_size || end > file_size)
+      parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
+                              a.name, begin, end, file_size));
+    ranges.push_back({begin, end, a.name});
+  }
+  std::sort(ranges.begin(), ranges.end(),
+            [](const Range& x, const Range& y) { return x.begin < y.begin; });
+  for (std::size_t q = 1; q < ranges.size(); ++q)
+    if (ranges[q].begin < ranges[q - 1].end)
+      parser.fail(fmt::format("arrays '{}' and '{}' overlap in the appended data",
+                              ranges[q - 1].name, ranges[q].name));
 
   VtiData result;
   result.n = n;
   result.metadata = std::move(parser.metadata());
-  const int hb = parser.header_bytes();
   std::vector<char> bytes;
-  for (const ArrayInfo& a : parser.arrays()) {
-    const std::uint64_t elem = a.float32 ? 4 : 8;
-    const std::uint64_t expected = std::uint64_t(n) * n * n * elem;
-    const std::uint64_t begin = parser.data_start() + a.offset;
-    const std::uint64_t end = begin + hb + expected;
-    if (begin + hb > file_size || end > file_size)
-      parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
-                              a.name, begin, end, file_size));
+  for (const ArrayInfo& a : wanted) {
+    const auto [begin, end] = byte_range(a);
+    const std::uint64_t expected = end - begin - hb;
     in.clear();
     in.seekg(static_cast<std::streamoff>(begin));
     std::uint64_t count = 0;
@@ -568,10 +617,16 @@ VtiData read_vti(const std::filesystem::path& path, int ghost) {
       parser.fail(fmt::format("array '{}' has a byte count of {} but N^3 = {} {} values need {} bytes",
                               a.name, count, std::uint64_t(n) * n * n,
                               a.float32 ? "Float32" : "Float64", expected));
-    Field f(n, ghost);
+    Field f(n, options.ghost);
     if (a.float32) read_values<float>(in, f, bytes);
     else read_values<double>(in, f, bytes);
     if (!in) parser.fail(fmt::format("read error in array '{}': {}", a.name, std::strerror(errno)));
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          if (!std::isfinite(f(i, j, k)))
+            parser.fail(fmt::format("array '{}' holds a non-finite value ({}) at cell ({}, {}, {})",
+                                    a.name, f(i, j, k), i, j, k));
     f.exchange_halo();
     result.arrays.emplace(a.name, std::move(f));
   }

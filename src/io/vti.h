@@ -41,4 +41,16 @@ struct VtiData {
 // found and what is supported.
 VtiData read_vti(const std::filesystem::path& path, int ghost = 1);
 
+// What a reader accepts, checked before anything is allocated: the header must end (the '_'
+// marker of <AppendedData>) within kMaxVtiHeaderBytes; N <= max_n; the arrays' byte ranges may
+// not overlap (so what is allocated is bounded by the file's size); every value is finite.
+// With `only` set, just that array is read (missing: an error naming the arrays found).
+inline constexpr std::size_t kMaxVtiHeaderBytes = std::size_t(1) << 20;
+struct VtiReadOptions {
+  int ghost = 1;
+  int max_n = 1 << 13;
+  std::string only;
+};
+VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& options);
+
 }  // namespace cmcsurf

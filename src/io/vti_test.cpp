@@ -313,3 +313,79 @@ TEST(IoVti, WriterRejectsBadArguments) {
 
 }  // namespace
 }  // namespace cmcsurf
+
+namespace cmcsurf {
+namespace {
+
+// Hostile and damaged inputs (issue 14): refused with the file and the problem named, before
+// anything large is allocated.
+TEST(IoVtiBadData, NonFiniteValuesAreRefused) {
+  TempDir tmp;
+  Field phi = random_field(8, 11);
+  phi(3, 4, 5) = std::nan("");
+  const auto path = tmp / "nan.vti";
+  write_vti(path, {{"phi", &phi}});
+  expect_read_error(path, {"'phi'", "non-finite", "(3, 4, 5)"});
+  phi(3, 4, 5) = INFINITY;
+  write_vti(path, {{"phi", &phi}}, true);
+  expect_read_error(path, {"non-finite", "inf"});
+}
+
+TEST(IoVtiBadData, ArraysSharingBytesAreRefused) {
+  // K arrays named at one offset would each be allocated from the same N^3 bytes.
+  TempDir tmp;
+  const int n = 8;
+  const Field phi = random_field(n, 3), mu = random_field(n, 4);
+  const auto path = tmp / "overlap.vti";
+  write_vti(path, {{"phi", &phi}, {"mu", &mu}});
+  std::string text = slurp(path);
+  const std::string second = "offset=\"" + std::to_string(8 + 8 * n * n * n) + "\"";
+  const std::size_t at = text.find(second);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, second.size(), "offset=\"0\"" + std::string(second.size() - 10, ' '));
+  write_file_atomic(path, text);
+  expect_read_error(path, {"overlap", "'phi'", "'mu'"});
+}
+
+TEST(IoVtiBadData, HeaderWithoutMarkerIsNotReadToTheEnd) {
+  TempDir tmp;
+  const auto path = tmp / "nomarker.vti";
+  std::string text = "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" "
+                     "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<!-- ";
+  text += std::string(2 * kMaxVtiHeaderBytes, 'x');
+  text += " -->\n</VTKFile>\n";
+  write_file_atomic(path, text);
+  expect_read_error(path, {"first 1048576 bytes"});
+}
+
+TEST(IoVtiBadData, SizeLimitAndOneArrayAreCheckedBeforeReading) {
+  TempDir tmp;
+  const Field phi = random_field(16, 5), mu = random_field(16, 6);
+  const auto path = tmp / "two.vti";
+  write_vti(path, {{"mu", &mu}, {"phi", &phi}});
+  VtiReadOptions small;
+  small.max_n = 8;
+  try {
+    read_vti(path, small);
+    ADD_FAILURE() << "accepted N = 16 over a limit of 8";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("N = 16 exceeds the limit 8"), std::string::npos) << e.what();
+  }
+  VtiReadOptions only_phi;
+  only_phi.only = "phi";
+  const VtiData d = read_vti(path, only_phi);
+  ASSERT_EQ(d.arrays.size(), 1u);
+  EXPECT_EQ(d.arrays.at("phi")(1, 2, 3), phi(1, 2, 3));
+  VtiReadOptions missing;
+  missing.only = "nu";
+  try {
+    read_vti(path, missing);
+    ADD_FAILURE() << "accepted a missing array";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no array 'nu' (found 'mu', 'phi')"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cmcsurf
