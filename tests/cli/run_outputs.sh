@@ -39,3 +39,13 @@ head = open(f"{d}/field.vti", "rb").read(600).decode("latin-1")
 assert 'type="ImageData"' in head and 'WholeExtent="0 15 0 15 0 15"' in head, head
 print("run_outputs: all passed")
 PY
+# A second run into the same folder replaces the first one's outputs, and leaves none of them
+# behind (here the first run's surface mesh, which the second does not write).
+"$bin" run --surface P --grid 16 --max-steps 3 --mesh stl --quiet --out "$work/again"
+[ -s "$work/again/surface.stl" ] || { echo "FAIL: first run wrote no surface.stl"; exit 1; }
+"$bin" run --surface G --grid 16 --max-steps 3 --quiet --out "$work/again"
+if [ -e "$work/again/surface.stl" ] || [ -e "$work/again/surface.stl.json" ]; then
+  echo "FAIL: the first run's surface mesh was left beside the second run's report"; exit 1
+fi
+grep -q '"surface": "G"' "$work/again/report.json" || { echo "FAIL: report not replaced"; exit 1; }
+echo "run_outputs: reuse of --out passed"
