@@ -8,6 +8,9 @@ cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
           libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
           admesh libopenmpi-dev openmpi-bin)
+# Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti).
+read -r -a extra <<<"${CMCSURF_EXTRA_PACKAGES:-}"
+packages+=("${extra[@]}")
 if [ "${1:-}" != "--no-install" ]; then
   missing=()
   for p in "${packages[@]}"; do

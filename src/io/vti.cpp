@@ -139,15 +139,18 @@ std::string extent_string(int n) { return fmt::format("0 {0} 0 {0} 0 {0}", n - 1
 
 // ---- writer -----------------------------------------------------------------
 
+// The N^3 cell values plus the periodic wrap: (N+1)^3 points, point i on each axis holding
+// cell i mod N, so that VTK's point grid covers the whole unit cell.
 template <class T>
 void write_values(std::ostream& os, const Field& f, std::vector<T>& slab) {
-  const int n = f.n();
-  slab.resize(std::size_t(n) * n);
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
-      const double* row = f.data() + f.index(0, j, k);
-      T* dst = slab.data() + std::size_t(j) * n;
+  const int n = f.n(), m = n + 1;
+  slab.resize(std::size_t(m) * m);
+  for (int k = 0; k < m; ++k) {
+    for (int j = 0; j < m; ++j) {
+      const double* row = f.data() + f.index(0, j % n, k % n);
+      T* dst = slab.data() + std::size_t(j) * m;
       for (int i = 0; i < n; ++i) dst[i] = static_cast<T>(row[i]);
+      dst[n] = static_cast<T>(row[0]);
     }
     os.write(reinterpret_cast<const char*>(slab.data()),
              static_cast<std::streamsize>(slab.size() * sizeof(T)));
@@ -433,15 +436,18 @@ class HeaderParser {
   std::size_t data_start_ = 0;
 };
 
+// Reads m^3 point values (x fastest) into the N^3 cells of f: m = N, or m = N + 1 with the
+// periodic wrap, whose last point on each axis repeats the first and is skipped.
 template <class T>
-void read_values(std::istream& in, Field& f, std::vector<char>& bytes) {
+void read_values(std::istream& in, Field& f, int m, std::vector<char>& bytes) {
   const int n = f.n();
-  bytes.resize(std::size_t(n) * n * sizeof(T));
-  for (int k = 0; k < n; ++k) {
+  bytes.resize(std::size_t(m) * m * sizeof(T));
+  for (int k = 0; k < m; ++k) {
     in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (k >= n) continue;
     for (int j = 0; j < n; ++j) {
       double* row = &f(0, j, k);
-      const char* src = bytes.data() + std::size_t(j) * n * sizeof(T);
+      const char* src = bytes.data() + std::size_t(j) * m * sizeof(T);
       if constexpr (std::is_same_v<T, double>) {
         std::memcpy(row, src, sizeof(double) * n);
       } else {
@@ -474,13 +480,16 @@ void write_vti(const std::filesystem::path& path, const std::vector<VtiArray>& a
   const int n = arrays[0].field->n();
   const double h = 1.0 / n;
   const std::size_t elem = float32 ? sizeof(float) : sizeof(double);
-  const std::uint64_t bytes = std::uint64_t(n) * n * n * elem;
+  const std::uint64_t points = std::uint64_t(n + 1) * (n + 1) * (n + 1);
+  const std::uint64_t bytes = points * elem;
   const char* type = float32 ? "Float32" : "Float64";
-  const std::string extent = extent_string(n);
+  const std::string extent = extent_string(n + 1);
 
   std::string head = "<?xml version=\"1.0\"?>\n<!-- cmcsurf\n";
+  head += std::string(kVtiLayoutKey) + "=" + kVtiPeriodicLayout + "\n";
   for (const auto& [key, value] : metadata)
-    head += comment_escape(key, true) + "=" + comment_escape(value, false) + "\n";
+    if (key != kVtiLayoutKey)
+      head += comment_escape(key, true) + "=" + comment_escape(value, false) + "\n";
   head += "-->\n";
   head += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" "
           "header_type=\"UInt64\">\n";
@@ -558,7 +567,12 @@ VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& option
     chunk = text.size();
   }
   if (parser.arrays().empty()) parser.fail("no PointData arrays found");
-  const int n = parser.n();
+  // m points per axis; with cmcsurf's periodic layout they are the N cells plus the wrap.
+  const int m = parser.n();
+  const auto layout = parser.metadata().find(kVtiLayoutKey);
+  const bool wrapped = layout != parser.metadata().end() && layout->second == kVtiPeriodicLayout;
+  if (wrapped && m < 2) parser.fail("a periodic layout needs at least 2 points per axis");
+  const int n = wrapped ? m - 1 : m;
   if (n > options.max_n)
     parser.fail(fmt::format("N = {} exceeds the limit {} of this command", n, options.max_n));
   if (options.ghost < 0 || options.ghost > n)
@@ -578,7 +592,7 @@ VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& option
   }
   const int hb = parser.header_bytes();
   auto byte_range = [&](const ArrayInfo& a) {
-    const std::uint64_t expected = std::uint64_t(n) * n * n * (a.float32 ? 4 : 8);
+    const std::uint64_t expected = std::uint64_t(m) * m * m * (a.float32 ? 4 : 8);
     const std::uint64_t begin = parser.data_start() + a.offset;
     return std::pair{begin, begin + hb + expected};
   };
@@ -614,12 +628,12 @@ VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& option
     std::uint64_t count = 0;
     in.read(reinterpret_cast<char*>(&count), hb);  // little-endian: low bytes first
     if (count != expected)
-      parser.fail(fmt::format("array '{}' has a byte count of {} but N^3 = {} {} values need {} bytes",
-                              a.name, count, std::uint64_t(n) * n * n,
+      parser.fail(fmt::format("array '{}' has a byte count of {} but {}^3 = {} {} values need {} bytes",
+                              a.name, count, m, std::uint64_t(m) * m * m,
                               a.float32 ? "Float32" : "Float64", expected));
     Field f(n, options.ghost);
-    if (a.float32) read_values<float>(in, f, bytes);
-    else read_values<double>(in, f, bytes);
+    if (a.float32) read_values<float>(in, f, m, bytes);
+    else read_values<double>(in, f, m, bytes);
     if (!in) parser.fail(fmt::format("read error in array '{}': {}", a.name, std::strerror(errno)));
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)

@@ -1,9 +1,12 @@
 // VTK XML ImageData (.vti) writer and reader for cell-centred scalar fields.
 //
-// Layout written: WholeExtent "0 N-1 0 N-1 0 N-1", Origin "h/2 h/2 h/2",
-// Spacing "h h h", so VTK points sit at the cell centres and ParaView's
-// Contour filter applies directly. Values are PointData (x fastest) in a raw
-// <AppendedData> section, each array prefixed by a UInt64 byte count.
+// Layout written: WholeExtent "0 N 0 N 0 N", Origin "h/2 h/2 h/2", Spacing "h h h": VTK
+// points sit at the cell centres, and the last point on each axis repeats the first (the
+// periodic wrap), so ParaView's Contour at 0.5 covers the whole unit cell and copies of the
+// file tile seamlessly. The cmcsurf comment says so ("layout=periodic"). Values are PointData
+// (x fastest) in a raw <AppendedData> section, each array prefixed by a UInt64 byte count.
+// The reader takes both that layout and N^3 points without the wrap (earlier cmcsurf files,
+// other writers).
 #pragma once
 
 #include <filesystem>
@@ -14,6 +17,9 @@
 #include "grid/field.h"
 
 namespace cmcsurf {
+
+inline constexpr const char* kVtiLayoutKey = "layout";
+inline constexpr const char* kVtiPeriodicLayout = "periodic";
 
 struct VtiArray {
   std::string name;

@@ -129,7 +129,8 @@ TEST(IoVti, TwoArraysKeepNamesAndOrder) {
   const std::string text = slurp(path);
   EXPECT_EQ(attribute(text, "PointData", "Scalars"), "phi");
   EXPECT_LT(text.find("Name=\"phi\""), text.find("Name=\"mu\""));
-  EXPECT_NE(text.find("offset=\"" + std::to_string(8 + 8 * n * n * n) + "\""), std::string::npos);
+  EXPECT_NE(text.find("offset=\"" + std::to_string(8 + 8 * (n + 1) * (n + 1) * (n + 1)) + "\""),
+            std::string::npos);
 
   const VtiData data = read_vti(path);
   ASSERT_EQ(data.arrays.size(), 2u);
@@ -153,27 +154,33 @@ TEST(IoVti, HeaderDescribesCellCentres) {
   EXPECT_EQ(attribute(text, "VTKFile", "type"), "ImageData");
   EXPECT_EQ(attribute(text, "VTKFile", "byte_order"), "LittleEndian");
   EXPECT_EQ(attribute(text, "VTKFile", "header_type"), "UInt64");
-  EXPECT_EQ(attribute(text, "ImageData", "WholeExtent"), "0 9 0 9 0 9");
-  EXPECT_EQ(attribute(text, "Piece", "Extent"), "0 9 0 9 0 9");
+  // N + 1 points per axis: the cell centres and the periodic wrap.
+  EXPECT_EQ(attribute(text, "ImageData", "WholeExtent"), "0 10 0 10 0 10");
+  EXPECT_EQ(attribute(text, "Piece", "Extent"), "0 10 0 10 0 10");
+  EXPECT_NE(text.find("\nlayout=periodic\n"), std::string::npos);
   EXPECT_EQ(numbers(attribute(text, "ImageData", "Spacing")), std::vector<double>(3, 0.1));
   EXPECT_EQ(numbers(attribute(text, "ImageData", "Origin")), std::vector<double>(3, 0.05));
   EXPECT_EQ(attribute(text, "DataArray", "type"), "Float64");
   EXPECT_EQ(attribute(text, "DataArray", "format"), "appended");
   EXPECT_EQ(attribute(text, "AppendedData", "encoding"), "raw");
 
-  // Raw block: UInt64 byte count, then values with x fastest, then y, then z.
+  // Raw block: UInt64 byte count, then values with x fastest, then y, then z; point n on
+  // each axis repeats point 0.
   const std::size_t data = text.find('_', text.find("<AppendedData")) + 1;
   std::uint64_t count = 0;
   std::memcpy(&count, text.data() + data, 8);
-  EXPECT_EQ(count, 8u * n * n * n);
+  const std::size_t m = n + 1;
+  EXPECT_EQ(count, 8u * m * m * m);
   auto value = [&](std::size_t idx) {
     double v;
     std::memcpy(&v, text.data() + data + 8 + 8 * idx, 8);
     return v;
   };
   EXPECT_EQ(value(1), 1.0);
-  EXPECT_EQ(value(n), 100.0);
-  EXPECT_EQ(value(std::size_t(n) * n), 10000.0);
+  EXPECT_EQ(value(n), 0.0);  // x wrap of point 0
+  EXPECT_EQ(value(m), 100.0);
+  EXPECT_EQ(value(m * m), 10000.0);
+  EXPECT_EQ(value(m * m * n + m * 3 + 2), 2.0 + 300.0);  // z wrap of cell (2, 3, 0)
   EXPECT_TRUE(text.ends_with("\n  </AppendedData>\n</VTKFile>\n"));
 }
 
@@ -202,7 +209,9 @@ TEST(IoVti, MetadataInCommentAndFieldData) {
   EXPECT_NE(text.find("Name=\"volume_fraction\""), std::string::npos);
   EXPECT_EQ(text.find("Name=\"surface\""), std::string::npos);  // not numeric: comment only
   EXPECT_EQ(text.find("Name=\"nan\""), std::string::npos);      // not finite: comment only
-  EXPECT_EQ(read_vti(path).metadata, meta);
+  auto with_layout = meta;
+  with_layout["layout"] = "periodic";
+  EXPECT_EQ(read_vti(path).metadata, with_layout);
 }
 
 TEST(IoVti, RejectsTruncatedFile) {
@@ -223,11 +232,11 @@ TEST(IoVti, RejectsNonCubicExtent) {
   const auto path = tmp / "e.vti";
   write_vti(path, {{"phi", &phi}});
   std::string text = slurp(path);
-  const std::size_t at = text.find("WholeExtent=\"0 7 0 7 0 7\"");
+  const std::size_t at = text.find("WholeExtent=\"0 8 0 8 0 8\"");
   ASSERT_NE(at, std::string::npos);
-  text.replace(at, 25, "WholeExtent=\"0 7 0 7 0 3\"");
+  text.replace(at, 25, "WholeExtent=\"0 8 0 8 0 3\"");
   write_file_atomic(path, text);
-  expect_read_error(path, {"WholeExtent=\"0 7 0 7 0 3\"", "0 N-1 0 N-1 0 N-1"});
+  expect_read_error(path, {"WholeExtent=\"0 8 0 8 0 3\"", "0 N-1 0 N-1 0 N-1"});
 }
 
 TEST(IoVti, RejectsOtherEncodings) {
@@ -339,7 +348,7 @@ TEST(IoVtiBadData, ArraysSharingBytesAreRefused) {
   const auto path = tmp / "overlap.vti";
   write_vti(path, {{"phi", &phi}, {"mu", &mu}});
   std::string text = slurp(path);
-  const std::string second = "offset=\"" + std::to_string(8 + 8 * n * n * n) + "\"";
+  const std::string second = "offset=\"" + std::to_string(8 + 8 * (n + 1) * (n + 1) * (n + 1)) + "\"";
   const std::size_t at = text.find(second);
   ASSERT_NE(at, std::string::npos);
   text.replace(at, second.size(), "offset=\"0\"" + std::string(second.size() - 10, ' '));

@@ -36,7 +36,7 @@ assert len(rows) == r["steps"] + r["prerelax_steps"], (len(rows), r["steps"])
 assert sum(row["stage"] == "volume" for row in rows) == r["volume_steps"]
 assert [int(row["step"]) for row in rows] == list(range(1, len(rows) + 1))
 head = open(f"{d}/field.vti", "rb").read(600).decode("latin-1")
-assert 'type="ImageData"' in head and 'WholeExtent="0 15 0 15 0 15"' in head, head
+assert 'type="ImageData"' in head and 'WholeExtent="0 16 0 16 0 16"' in head, head
 print("run_outputs: all passed")
 PY
 # A second run into the same folder replaces the first one's outputs, and leaves none of them
