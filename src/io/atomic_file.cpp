@@ -45,15 +45,25 @@ AtomicWriter::~AtomicWriter() {
 
 void AtomicWriter::commit() {
   if (committed_) throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
+  // A stream that failed while the caller wrote to it still holds that write's errno (ENOSPC
+  // on a full disk), unless something else ran since; keep it before flushing.
+  const int earlier_err = errno;
+  const bool failed_earlier = !out_;
   errno = 0;
   out_.flush();
   const bool write_ok = static_cast<bool>(out_);
   const int write_err = errno;
   out_.close();
   if (!write_ok || !out_) {
-    const int err = write_err ? write_err : errno;
+    const int err = failed_earlier ? earlier_err : (write_err ? write_err : errno);
+    std::string why = err ? std::strerror(err) : "stream error";
+    std::error_code ec;
+    const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+    const std::filesystem::space_info space = std::filesystem::space(parent, ec);
+    if (!ec && space.available < (std::uintmax_t(1) << 20))
+      why += fmt::format(" ({} bytes free on that device)", space.available);
     throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): {}", target_.string(),
-                                         temp_.string(), err ? std::strerror(err) : "stream error"));
+                                         temp_.string(), why));
   }
   if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
     const int err = errno;
