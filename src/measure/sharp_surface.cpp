@@ -237,12 +237,8 @@ LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSam
 SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* samples) {
   Field psi = Field::like(phi, 2);
   tanh_profile_inverse(phi, psi);
-  const LevelSetSurface s = level_set_surface(psi, samples);
   SharpMeasures m;
-  m.area = s.area;
-  m.mean_curvature = s.mean_curvature;
-  m.mean_curvature_std = s.mean_curvature_std;
-  m.triangles = s.triangles;
+  static_cast<LevelSetSurface&>(m) = level_set_surface(psi, samples);
   m.area_error = m.mean_curvature_error = std::numeric_limits<double>::quiet_NaN();
   const int n = phi.n();
   if (phi.whole() && n % 2 == 0 && n / 2 >= 8) {
@@ -251,8 +247,8 @@ SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* sam
     restrict_average(psi, coarse);
     coarse.exchange_halo();
     const LevelSetSurface c = level_set_surface(coarse);
-    m.area_error = std::abs(s.area - c.area) / 3.0;
-    m.mean_curvature_error = std::abs(s.mean_curvature - c.mean_curvature) / 3.0;
+    m.area_error = std::abs(m.area - c.area) / 3.0;
+    m.mean_curvature_error = std::abs(m.mean_curvature - c.mean_curvature) / 3.0;
   }
   return m;
 }

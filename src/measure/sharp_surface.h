@@ -60,13 +60,9 @@ LevelSetSurface level_set_surface_ref(const Field& psi,
 // The sharp measures of a phase field: level_set_surface of tanh_profile_inverse(phi), and
 // Richardson error estimates |X_h - X_2h| / 3 from the same estimator on psi averaged to the
 // grid of N/2 (whole grids with N/2 >= 8; NaN otherwise, e.g. on a decomposed block).
-struct SharpMeasures {
-  double area = 0.0;
-  double mean_curvature = 0.0;
-  double mean_curvature_std = 0.0;
+struct SharpMeasures : LevelSetSurface {
   double area_error = 0.0;
   double mean_curvature_error = 0.0;
-  std::size_t triangles = 0;
 };
 // phi: any ghost width (its ghosts are not read).
 SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* samples = nullptr);

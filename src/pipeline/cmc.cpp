@@ -289,10 +289,6 @@ void measure_final(RunResult& r, const RunParams& params) {
 
 RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
 
-}  // namespace
-
-namespace {
-
 // A run that starts from a given field (copied): steps 6 and after, and the final measures.
 RunResult relax_from(const Field& phi0, const RunParams& params, const RunContext& context,
                      bool hold_volume) {
@@ -376,7 +372,25 @@ void prolongate_trilinear(const Field& coarse, Field& fine) {
   fine.exchange_halo();
 }
 
+namespace {
+
+InitialFieldParams initial_field_params(const RunParams& params) {
+  InitialFieldParams init;
+  init.surface = params.surface;
+  init.epsilon = params.epsilon;
+  init.radius = params.radius;
+  init.seed = params.seed;
+  init.noise_amplitude = params.noise_amplitude;
+  return init;
+}
+
+}  // namespace
+
 RunResult run_cmc(const RunParams& params, const RunContext& context) {
+  if (!is_nodal_surface(params.surface))  // sphere, cube, noise: a direct relaxation
+    return relax_field(make_initial_field(initial_field_params(params), params.grid, 2,
+                                          context.decomposition),
+                       params, context);
   RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
   return result;
@@ -384,22 +398,10 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
 
 namespace {
 
+// Steps 1-6 (and the volume constraint) for a nodal surface, without the final sharp measures.
 RunResult run_cmc_stages(const RunParams& params, const RunContext& context) {
-  InitialFieldParams init;
-  init.surface = params.surface;
-  init.epsilon = params.epsilon;
-  init.radius = params.radius;
-  init.seed = params.seed;
-  init.noise_amplitude = params.noise_amplitude;
+  const InitialFieldParams init = initial_field_params(params);
   const auto& d = context.decomposition;
-  if (!is_nodal_surface(params.surface)) {
-    RunResult result;
-    result.phi = make_initial_field(init, params.grid, 2, d);
-    result.initial = measure_field(result.phi, params.epsilon);
-    Evolution evolution(params, context, result);
-    evolution.relax();
-    return result;
-  }
   if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
       (!d || d->splits(params.grid / 2)))
     return run_cmc_from_coarse(params, context);
