@@ -148,93 +148,22 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
       ->capture_default_str();
 }
 
-namespace {
-
-template <class T>
-void require(bool ok, const char* option, T value, const char* accepted) {
-  if (!ok) throw UsageError(fmt::format("{}: got {}; accepted: {}", option, value, accepted));
-}
-
-}  // namespace
-
-int fast_coarse_levels(int grid) {
-  int k = 0;
-  while (k < 2 && (grid >> (k + 1)) >= 32 && check_coarsenable(grid >> (k + 1)).empty()) ++k;
-  return k;
-}
-
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface) {
-  if (s.fast) {
-    p.fast = true;
-    auto unset = [](const CLI::Option* o) { return o == nullptr || o->count() == 0; };
-    if (unset(s.mg_rtol)) p.solver.rtol = kFastMgRtol;
-    if (unset(s.dt_max_factor)) p.dt_max_factor = kFastDtMaxFactor;
-    if (unset(s.extrapolate)) p.solver.extrapolate = true;
-    if (unset(s.coarse_levels) && check_coarsenable(p.grid).empty())
-      p.coarse_levels = fast_coarse_levels(p.grid);
+  RunChoices c;
+  c.stop = s.stop;
+  c.smoother = s.smoother;
+  c.constrain = s.constrain;
+  c.fast = s.fast;
+  auto given = [](const CLI::Option* o) { return o != nullptr && o->count() > 0; };
+  c.mg_rtol_given = given(s.mg_rtol);
+  c.coarse_levels_given = given(s.coarse_levels);
+  c.dt_max_factor_given = given(s.dt_max_factor);
+  c.extrapolate_given = given(s.extrapolate);
+  try {
+    finish_run_params(p, c, check_surface);
+  } catch (const OptionError& e) {
+    throw UsageError(e.what());
   }
-  if (s.stop == "area")
-    p.stop = StopRule::kArea;
-  else if (s.stop == "phi")
-    p.stop = StopRule::kPhi;
-  else
-    throw UsageError(fmt::format("--stop: got '{}'; accepted: area, phi", s.stop));
-  if (s.smoother == "redblack")
-    p.smoother = SweepOrder::kRedBlack;
-  else if (s.smoother == "lex")
-    p.smoother = SweepOrder::kLexicographic;
-  else
-    throw UsageError(fmt::format("--smoother: got '{}'; accepted: redblack, lex", s.smoother));
-  if (s.constrain == "volume")
-    p.constrain = Constraint::kVolume;
-  else if (s.constrain == "mass")
-    p.constrain = Constraint::kMass;
-  else
-    throw UsageError(fmt::format("--constrain: got '{}'; accepted: volume, mass", s.constrain));
-
-  if (check_surface) {
-    try {
-      validate_surface(p.surface);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(fmt::format("--surface: {}", e.what()));
-    }
-    require(p.volume_fraction > 0.0 && p.volume_fraction < 1.0, "--volume-fraction",
-            p.volume_fraction, "0 < A < 1");
-  }
-  const std::string grid_problem = check_coarsenable(p.grid);
-  if (!grid_problem.empty()) throw UsageError("--grid: " + grid_problem);
-  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
-  require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
-  require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
-          "C > 0 (dt = C h)");
-  require(p.tol > 0.0, "--tol", p.tol, "T > 0");
-  require(p.max_steps >= 1, "--max-steps", p.max_steps, "K >= 1");
-  require(p.radius > 0.0 && p.radius < 0.5, "--radius", p.radius, "0 < R < 0.5");
-  require(p.solver.tol > 0.0, "--mg-tol", p.solver.tol, "> 0");
-  require(p.solver.rtol >= 0.0 && p.solver.rtol < 1.0, "--mg-rtol", p.solver.rtol, "0 <= R < 1");
-  require(p.coarse_levels >= 0 && p.coarse_levels <= 4, "--coarse-levels", p.coarse_levels,
-          "0..4");
-  if (p.coarse_levels > 0 && !check_coarsenable(p.grid >> p.coarse_levels).empty())
-    throw UsageError(fmt::format("--coarse-levels: {} halvings of --grid {} give {}, which {}",
-                                 p.coarse_levels, p.grid, p.grid >> p.coarse_levels,
-                                 check_coarsenable(p.grid >> p.coarse_levels)));
-  require(p.dt_max_factor == 0.0 || (p.dt_max_factor >= p.dt_factor && p.dt_max_factor <= 1000.0),
-          "--dt-max-factor", p.dt_max_factor, "0 (fixed dt) or --dt-factor <= F <= 1000");
-  require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");
-  require(p.solver.fas.pre_sweeps >= 0 && p.solver.fas.pre_sweeps <= 50, "--pre-sweeps",
-          p.solver.fas.pre_sweeps, "0..50");
-  require(p.solver.fas.post_sweeps >= 0 && p.solver.fas.post_sweeps <= 50, "--post-sweeps",
-          p.solver.fas.post_sweeps, "0..50");
-  require(p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps >= 1, "--pre-sweeps/--post-sweeps",
-          p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps, "at least one sweep in total");
-  require(p.prerelax_steps >= 0, "--prerelax-steps", p.prerelax_steps, ">= 0");
-  require(p.prerelax_epsilon_factor > 0.0, "--prerelax-epsilon-factor",
-          p.prerelax_epsilon_factor, "> 0");
-  require(p.bisection_tol > 0.0, "--bisection-tol", p.bisection_tol, "> 0");
-  require(p.bisection_max_it >= 1, "--bisection-max-it", p.bisection_max_it, ">= 1");
-  require(p.volume_tol > 0.0 && p.volume_tol < 0.1, "--volume-tol", p.volume_tol, "0 < T < 0.1");
-  require(p.max_volume_corrections >= 0 && p.max_volume_corrections <= 100,
-          "--max-volume-corrections", p.max_volume_corrections, "0..100");
 }
 
 void add_threads_option(CLI::App& app, int& threads) {

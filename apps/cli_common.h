@@ -10,6 +10,7 @@
 #include "measure/quality.h"
 
 #include "pipeline/cmc.h"
+#include "pipeline/run_options.h"
 
 namespace cmcsurf::cli {
 
@@ -33,13 +34,9 @@ struct RunOptionStrings {
   CLI::Option* dt_max_factor = nullptr;
   CLI::Option* extrapolate = nullptr;
 };
-// What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
-// V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h.
-constexpr double kFastMgRtol = 1e-2;
-constexpr double kFastDtMaxFactor = 8.0;
-int fast_coarse_levels(int grid);
+// What --fast selects: kFastMgRtol, kFastDtMaxFactor, fast_coarse_levels (pipeline/run_options.h).
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
-// Converts the strings and checks every range; throws UsageError.
+// Converts the strings and checks every range (finish_run_params); throws UsageError.
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);
 
 // --threads T (T >= 0; 0 keeps OMP_NUM_THREADS or all cores), for every command.

@@ -1,0 +1,41 @@
+// From what a user asked for to a validated RunParams: the names of the enumerations, what
+// --fast selects and every range check, with the messages the command line prints (they name
+// the option and what is accepted). Shared by apps/ (cmcsurf run, sweep) and python/.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "pipeline/cmc.h"
+
+namespace cmcsurf {
+
+// A user's option out of range; the message names the option ("--grid: got 50; ...").
+struct OptionError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// The options of a run that are not plain numbers of RunParams, and which of the options that
+// --fast sets the user gave (those keep the given value).
+struct RunChoices {
+  std::string stop = "area";          // area | phi
+  std::string smoother = "redblack";  // redblack | lex
+  std::string constrain = "volume";   // volume | mass
+  bool fast = false;
+  bool mg_rtol_given = false;
+  bool coarse_levels_given = false;
+  bool dt_max_factor_given = false;
+  bool extrapolate_given = false;
+};
+
+// What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
+// V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h.
+constexpr double kFastMgRtol = 1e-2;
+constexpr double kFastDtMaxFactor = 8.0;
+int fast_coarse_levels(int grid);
+
+// Applies --fast, converts the strings and checks every range (the surface and the volume
+// fraction too when check_surface); throws OptionError.
+void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface);
+
+}  // namespace cmcsurf
