@@ -23,50 +23,6 @@ std::string plus_minus(double error) {
   return std::isfinite(error) ? fmt::format(" +- {:.1e}", error) : std::string();
 }
 
-void clear_run_outputs(const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
-  // report.json first: from here until it is written again the folder reads as incomplete.
-  std::vector<fs::path> stale = {dir / "report.json"};
-  for (const char* name : {"field.vti", "history.csv", "curvature_histogram.csv"})
-    stale.push_back(dir / name);
-  for (const char* ext : {"stl", "ply", "obj", "3mf"}) {
-    stale.push_back(dir / (std::string("surface.") + ext));
-    stale.push_back(dir / (std::string("surface.") + ext + ".json"));
-  }
-  for (const fs::path& f : stale) {
-    std::error_code ec;
-    fs::remove(f, ec);
-    if (ec)
-      throw std::runtime_error(
-          fmt::format("cannot remove the earlier run's '{}': {}", f.string(), ec.message()));
-  }
-}
-
-nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const Field& phi, const CmcQuality& quality,
-                                int threads, bool float32, const nlohmann::json& extra,
-                                const std::function<void()>& extra_files) {
-  nlohmann::json report = run_report(p, r, threads);
-  report.update(quality_json(quality, r.final.area));
-  if (extra.is_object()) report.update(extra);
-  ensure_directory(dir);
-  clear_run_outputs(dir);
-  write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
-  write_history_csv(dir / "history.csv", r.history);
-  const nlohmann::json& target = report["volume_fraction_target"];
-  write_vti(dir / "field.vti", {{"phi", &phi}}, float32,
-            {{"surface", p.surface},
-             {"volume_fraction_target", target.is_null() ? "none" : fmt::format("{}", target.get<double>())},
-             {"epsilon", fmt::format("{}", p.epsilon)},
-             {"grid", fmt::format("{}", p.grid)},
-             {"area", fmt::format("{:.17g}", r.final.area)},
-             {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
-             {"version", version_string()}});
-  if (extra_files) extra_files();
-  write_json_atomic(dir / "report.json", report);
-  return report;
-}
-
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface) {
   if (with_surface)
     app.add_option("--surface", p.surface,

@@ -11,6 +11,7 @@
 
 #include "pipeline/cmc.h"
 #include "pipeline/run_options.h"
+#include "io/run_folder.h"
 
 namespace cmcsurf::cli {
 
@@ -67,21 +68,6 @@ std::string version_string();
 // " +- 2.1e-05" for a finite error estimate, "" otherwise.
 std::string plus_minus(double error);
 
-// A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
-// writes (the surface mesh), and report.json last, since it marks a complete run. The report
-// is run_report() plus the CMC quality keys (computed by the pipeline's measure_cmc_quality)
-// plus `extra` (which may override, e.g. the target of a continued sweep member). An earlier
-// run's outputs in dir are removed first (clear_run_outputs). phi is the
-// whole final field (r.phi, or its gather under MPI). Writes only:
-// everything in it was computed before. Returns the report.
-// Removes the outputs an earlier run left in dir (report.json first), so that a run into an
-// existing folder never leaves new files beside an old report, nor old ones beside a new one.
-void clear_run_outputs(const std::filesystem::path& dir);
-
-nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const Field& phi, const CmcQuality& quality,
-                                int threads,
-                                bool float32, const nlohmann::json& extra = {},
-                                const std::function<void()>& extra_files = {});
+// clear_run_outputs, decomposition_json and write_run_folder: io/run_folder.h.
 
 }  // namespace cmcsurf::cli

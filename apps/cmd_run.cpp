@@ -59,21 +59,6 @@ void validate(RunCommand& cmd) {
   }
 }
 
-// report.json keys of the process layout (rank 0's communication counters under MPI).
-nlohmann::json rank_keys(const Decomposition& world) {
-  nlohmann::json ranks = {{"mpi_ranks", world.ranks()},
-                          {"process_grid", {world.dims()[0], world.dims()[1], world.dims()[2]}}};
-  if (world.distributed()) {
-    const CommStats& c = world.stats();  // rank 0's share (docs/scaling.md)
-    ranks["mpi_rank0"] = {{"halo_bytes_sent", c.halo_bytes},
-                          {"halo_messages", c.halo_messages},
-                          {"gather_bytes_sent", c.gather_bytes},
-                          {"collectives", c.collectives},
-                          {"comm_seconds", c.seconds}};
-  }
-  return ranks;
-}
-
 void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
                    const nlohmann::json& report, const std::filesystem::path& dir) {
   std::cerr << fmt::format(
@@ -147,7 +132,7 @@ int run(RunCommand& cmd) {
   const Field& field = world->distributed() ? whole : r.phi;
   const CmcQuality quality = measure_cmc_quality(field, p);  // docs/families.md
   const nlohmann::json report = write_run_folder(
-      dir, p, r, field, quality, threads, cmd.float32, rank_keys(*world), [&] {
+      dir, p, r, field, quality, threads, cmd.float32, decomposition_json(*world), [&] {
         if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
       });
   if (!cmd.quiet) print_summary(p, r, quality, report, dir);

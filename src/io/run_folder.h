@@ -1,0 +1,40 @@
+// A run's folder as `cmcsurf run` and `sweep` write it, and as Python's Result.save() writes
+// it: the files of io/run_report.h, field.vti, and report.json last. Writes only: everything
+// in it was computed before.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "measure/quality.h"
+#include "parallel/decomposition.h"
+#include "pipeline/cmc.h"
+
+namespace cmcsurf {
+
+// Removes the outputs an earlier run left in dir (report.json first), so that a run into an
+// existing folder never leaves new files beside an old report, nor old ones beside a new one.
+void clear_run_outputs(const std::filesystem::path& dir);
+
+// report.json keys of the process layout: mpi_ranks, process_grid and, on several processes,
+// rank 0's communication counters (docs/scaling.md).
+nlohmann::json decomposition_json(const Decomposition& world);
+
+// The report of a run folder: run_report() plus the CMC quality keys (computed by the
+// pipeline's measure_cmc_quality) plus `extra` (which may override, e.g. the target of a
+// continued sweep member).
+nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
+                                 const CmcQuality& quality, int threads,
+                                 const nlohmann::json& extra = {});
+
+// A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
+// writes (the surface mesh), and report.json (run_folder_report) last, since it marks a
+// complete run. An earlier run's outputs in dir are removed first (clear_run_outputs). phi is
+// the whole final field (r.phi, or its gather under MPI). Returns the report.
+nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
+                                const RunResult& r, const Field& phi, const CmcQuality& quality,
+                                int threads, bool float32, const nlohmann::json& extra = {},
+                                const std::function<void()>& extra_files = {});
+
+}  // namespace cmcsurf
