@@ -6,8 +6,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
-          libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
-          admesh libopenmpi-dev openmpi-bin)
+          zlib1g-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
+          admesh libopenmpi-dev openmpi-bin
+          # The Python module (python/, docs/python.md) and its tests and examples.
+          pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
+          python3-setuptools python3-wheel python3-pip python3-venv)
 # Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti).
 read -r -a extra <<<"${CMCSURF_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")

@@ -21,6 +21,47 @@ void ChStepper::set_dt(double dt) {
   op_ = ChOperator(p);
 }
 
+ChStepperState ChStepper::take_state() {
+  ChStepperState s;
+  s.nu_valid = nu_valid_;
+  if (nu_valid_) std::swap(s.nu, solver_.solution()[1]);
+  s.history_valid = history_valid_;
+  s.prev_dt = prev_dt_;
+  if (history_valid_) {
+    std::swap(s.prev_phi, prev_phi_);
+    std::swap(s.prev_nu, prev_nu_);
+  }
+  return s;
+}
+
+void ChStepper::restore_state(ChStepperState&& s) {
+  // A field moved out by take_state comes back by swap; one read from a checkpoint is copied
+  // into the stepper's own (their ghost widths may differ).
+  auto put = [](Field& from, Field& to) {
+    if (to.n() == 0) {
+      std::swap(from, to);
+    } else {
+      CMCSURF_CHECK(from.n() == to.n());
+      copy_interior(from, to);
+    }
+  };
+  nu_valid_ = s.nu_valid;
+  if (s.nu_valid) {
+    put(s.nu, solver_.solution()[1]);
+    solver_.solution()[1].exchange_halo();
+  }
+  history_valid_ = s.history_valid;
+  prev_dt_ = s.prev_dt;
+  if (s.history_valid) {
+    if (prev_phi_.n() == 0 && s.prev_phi.n() != 0 && s.prev_phi.ghost() != 0) {
+      prev_phi_ = Field::like(s.prev_phi, 0);
+      prev_nu_ = Field::like(s.prev_phi, 0);
+    }
+    put(s.prev_phi, prev_phi_);
+    put(s.prev_nu, prev_nu_);
+  }
+}
+
 void extrapolate_into(const Field& x, Field& prev, Field& guess, double r) {
   CMCSURF_CHECK(prev.size() == x.size() && guess.size() == x.size());
   const int nx = x.nx(), ny = x.ny(), nz = x.nz();

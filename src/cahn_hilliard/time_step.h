@@ -30,6 +30,17 @@ struct StepSolverOptions {
   bool restore_mass = true;
 };
 
+// What a stepper carries from one step to the next: nu (the initial guess of mu's partner)
+// and, with extrapolation, the previous step's phi, nu and dt. A checkpoint saves it so that a
+// resumed run takes the same V-cycles as the uninterrupted one.
+struct ChStepperState {
+  Field nu;  // interior significant; empty when !nu_valid
+  bool nu_valid = false;
+  Field prev_phi, prev_nu;  // empty when !history_valid
+  double prev_dt = 0.0;
+  bool history_valid = false;
+};
+
 struct StepStats {
   int vcycles = 0;
   double residual = 0.0;      // defect norm after the last V-cycle
@@ -63,6 +74,10 @@ class ChStepper {
     history_valid_ = false;
   }
   FasSolver& solver() { return solver_; }
+  // Moves the state out (no copy; the stepper is unusable until restore_state) ...
+  ChStepperState take_state();
+  // ... and back, or from a checkpoint (its fields' interiors are copied; any ghost width).
+  void restore_state(ChStepperState&& state);
 
  private:
   ChOperator op_;

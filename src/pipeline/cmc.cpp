@@ -138,6 +138,7 @@ class Evolution {
  public:
   Evolution(const RunParams& params, const RunContext& context, RunResult& result)
       : params_(params),
+        context_(context),
         progress_(context.progress),
         result_(result),
         previous_(params.grid, 2, context.decomposition),
@@ -153,6 +154,55 @@ class Evolution {
       time_ = earlier.history.back().time;
     }
     t0_ = t0;
+  }
+
+  // Continues from a checkpoint taken on this evolution's grid: its result so far, step count,
+  // clock, stepper state and position (the stage loops pick up the position).
+  void restore(const Checkpoint& c) {
+    CMCSURF_CHECK(c.cursor.grid == params_.grid && c.result.phi.n() == params_.grid);
+    Field phi = std::move(result_.phi);
+    result_ = c.result;  // copies c's phi into a fresh field: put it into this run's own
+    copy_interior(result_.phi, phi);
+    result_.phi = std::move(phi);
+    result_.phi.exchange_halo();
+    step_ = c.step;
+    time_ = c.time;
+    last_step_converged_ = c.last_step_converged;
+    t0_ = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+                             std::chrono::duration<double>(c.elapsed));
+    cursor_ = c.cursor;
+    const double eps = c.cursor.stage == "prerelax"
+                           ? params_.prerelax_epsilon_factor * params_.epsilon
+                           : params_.epsilon;
+    stepper_.set_params({eps, c.cursor.dt, params_.smoother});
+    ChStepperState state = c.stepper;
+    stepper_.restore_state(std::move(state));
+    resuming_ = true;
+  }
+
+  // Whether this evolution continues a checkpoint taken in `stage` whose loop has not yet
+  // picked it up.
+  bool resuming(std::string_view stage) const { return resuming_ && cursor_.stage == stage; }
+  RunCursor& cursor() { return cursor_; }
+
+  // Step 3: prerelax_steps steps at the wide epsilon.
+  void prerelax() {
+    const double wide = params_.prerelax_epsilon_factor * params_.epsilon;
+    int first = 0;
+    double a;
+    if (resuming("prerelax")) {
+      first = cursor_.stage_steps;
+      a = cursor_.area;
+      resuming_ = false;
+    } else {
+      set_epsilon(wide);
+      a = area(result_.phi, wide);
+    }
+    for (int s = first; s < params_.prerelax_steps; ++s) {
+      mark("prerelax", s, params_.dt(), a, 0.0);
+      a = advance("prerelax", a).area;
+    }
+    result_.prerelax_steps = params_.prerelax_steps;
   }
 
   // One step at the stepper's epsilon and dt, recorded in the history.
@@ -194,16 +244,27 @@ class Evolution {
   // With volume_rate > 0 the stop rule also needs the sharp volume fraction to change by at
   // most volume_rate in the step (after a mass correction the area can settle before V does).
   int relax(const char* stage = "relax", double volume_rate = 0.0) {
-    set_epsilon(params_.epsilon);
-    double a = area(result_.phi, params_.epsilon);
-    double v = volume_rate > 0.0 ? sharp_volume_fraction(result_.phi) : 0.0;
+    double a = 0.0, v = 0.0;
+    if (!resuming(stage)) {
+      set_epsilon(params_.epsilon);
+      a = area(result_.phi, params_.epsilon);
+      v = volume_rate > 0.0 ? sharp_volume_fraction(result_.phi) : 0.0;
+    }
     result_.stop_reason = "max-steps";
     result_.converged = false;
     const double dt0 = params_.dt();
     const double dt_max = std::max(dt0, params_.dt_max_factor * params_.h());
     double dt = dt0;
     int taken = 0;
-    for (int s = 0; s < params_.max_steps; ++s) {
+    if (resuming(stage)) {  // the checkpoint was taken inside this loop
+      a = cursor_.area;
+      v = cursor_.volume;
+      dt = cursor_.dt;
+      taken = cursor_.stage_steps;
+      resuming_ = false;
+    }
+    for (int s = taken; s < params_.max_steps; ++s) {
+      mark(stage, taken, dt, a, v);
       stepper_.set_dt(dt);
       const StepRecord r = advance(stage, a);
       dt = last_step_converged_ ? std::min(dt_max, 2.0 * dt) : std::max(dt0, 0.5 * dt);
@@ -230,7 +291,44 @@ class Evolution {
   }
 
  private:
+  // Records the position before a step, and asks the context whether to checkpoint or stop
+  // there: a checkpoint lies between two steps, where the loops can pick it up (restore).
+  void mark(std::string_view stage, int stage_steps, double dt, double a, double v) {
+    cursor_.grid = params_.grid;
+    cursor_.stage = stage;
+    cursor_.stage_steps = stage_steps;
+    cursor_.dt = dt;
+    cursor_.area = a;
+    cursor_.volume = v;
+    if (!context_.control) return;
+    const RunControl control = context_.control();
+    if (control == RunControl::kContinue) return;
+    // The fields move into the checkpoint (no copy of the grid) and back after the call.
+    Checkpoint c;
+    Field phi = std::move(result_.phi);
+    c.result = result_;
+    c.result.phi = std::move(phi);
+    c.result.wall_seconds = seconds_since(t0_);
+    c.cursor = cursor_;
+    c.step = step_;
+    c.time = time_;
+    c.last_step_converged = last_step_converged_;
+    c.elapsed = seconds_since(t0_);
+    c.stepper = stepper_.take_state();
+    if (control == RunControl::kStop) throw RunInterrupted(std::move(c));
+    struct Restore {  // also when the callback throws
+      Checkpoint& c;
+      Evolution& e;
+      ~Restore() {
+        e.result_.phi = std::move(c.result.phi);
+        e.stepper_.restore_state(std::move(c.stepper));
+      }
+    } restore{c, *this};
+    if (context_.checkpoint) context_.checkpoint(c);
+  }
+
   const RunParams& params_;
+  const RunContext& context_;
   const ProgressFn& progress_;
   RunResult& result_;
   Field previous_;
@@ -239,6 +337,8 @@ class Evolution {
   int step_ = 0;
   double time_ = 0.0;
   bool last_step_converged_ = true;
+  RunCursor cursor_;
+  bool resuming_ = false;
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where
@@ -255,25 +355,39 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
   auto within = [&] {
     return std::abs(result.volume_iterates.back().volume_fraction - alpha) <= params.volume_tol;
   };
-  result.volume_constrained = true;
-  record(result.steps);
+  // A checkpoint taken during a correction's relaxation continues that relaxation: its mass
+  // was corrected before the checkpoint.
+  bool resuming = evolution.resuming("volume");
+  int first = 0;
   double slope = 1.0;
-  for (int c = 0; c < params.max_volume_corrections && !within(); ++c) {
-    const VolumeIterate& last = result.volume_iterates.back();
-    if (result.volume_iterates.size() >= 2) {
-      const VolumeIterate& prev = result.volume_iterates[result.volume_iterates.size() - 2];
-      const double s = (last.volume_fraction - prev.volume_fraction) / (last.mass - prev.mass);
-      if (std::isfinite(s)) slope = std::clamp(s, 0.25, 4.0);
+  if (resuming) {
+    first = evolution.cursor().correction;
+    slope = evolution.cursor().slope;
+  } else {
+    result.volume_constrained = true;
+    record(result.steps);
+  }
+  for (int c = first; c < params.max_volume_corrections && (resuming || !within()); ++c) {
+    if (!resuming) {
+      const VolumeIterate& last = result.volume_iterates.back();
+      if (result.volume_iterates.size() >= 2) {
+        const VolumeIterate& prev = result.volume_iterates[result.volume_iterates.size() - 2];
+        const double s = (last.volume_fraction - prev.volume_fraction) / (last.mass - prev.mass);
+        if (std::isfinite(s)) slope = std::clamp(s, 0.25, 4.0);
+      }
+      const double target_mass = last.mass + (alpha - last.volume_fraction) / slope;
+      add_constant(result.phi, target_mass - mass(result.phi));
+      result.phi.exchange_halo();
     }
-    const double target_mass = last.mass + (alpha - last.volume_fraction) / slope;
-    add_constant(result.phi, target_mass - mass(result.phi));
-    result.phi.exchange_halo();
+    resuming = false;
+    evolution.cursor().correction = c;
+    evolution.cursor().slope = slope;
     const int steps = evolution.relax("volume", 0.01 * params.volume_tol);
     result.volume_steps += steps;
     record(steps);
   }
   result.volume_converged = within();
-  result.volume_seconds = seconds_since(t0);
+  result.volume_seconds += seconds_since(t0);
 }
 
 }  // namespace
@@ -287,21 +401,56 @@ void measure_final(RunResult& r, const RunParams& params) {
   r.measure_seconds = seconds_since(t0);
 }
 
-RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
+// Step 6 (unless a checkpoint was taken after it) and, with hold_volume, the volume
+// constraint's corrections.
+void relax_and_constrain(Evolution& evolution, const RunParams& params, RunResult& result,
+                         bool hold_volume) {
+  if (!evolution.resuming("volume")) evolution.relax();
+  if (hold_volume) constrain_volume(evolution, params, result);
+}
 
-// A run that starts from a given field (copied): steps 6 and after, and the final measures.
+// A result whose field is allocated for params.grid, and an evolution that continues the
+// context's checkpoint, which was taken on this grid.
+RunResult resumed_result(const RunParams& params, const RunContext& context) {
+  CMCSURF_CHECK(context.resume && context.resume->cursor.grid == params.grid);
+  RunResult result;
+  result.phi = Field(params.grid, 2, context.decomposition);
+  return result;
+}
+
+// A run that starts from a given field (copied), or continues the context's checkpoint:
+// steps 6 and after, and the final measures.
 RunResult relax_from(const Field& phi0, const RunParams& params, const RunContext& context,
                      bool hold_volume) {
+  if (context.resume) {
+    RunResult result = resumed_result(params, context);
+    Evolution evolution(params, context, result);
+    evolution.restore(*context.resume);
+    relax_and_constrain(evolution, params, result, hold_volume);
+    measure_final(result, params);
+    return result;
+  }
   RunResult result;
   result.phi = Field(params.grid, 2, context.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
   Evolution evolution(params, context, result);
-  evolution.relax();
-  if (hold_volume) constrain_volume(evolution, params, result);
+  relax_and_constrain(evolution, params, result, hold_volume);
   measure_final(result, params);
   return result;
 }
+
+// Steps 4 and 5: the bisection on beta, the threshold and the shift to mean alpha.
+void threshold_and_shift(const RunParams& params, RunResult& result) {
+  Field& phi = result.phi;
+  result.bisection = bisect_threshold(phi, params.volume_fraction, params.bisection_tol,
+                                      params.bisection_max_it);
+  apply_threshold(phi, params.volume_fraction, result.bisection->beta);
+  result.mass_before_shift = mass(phi);
+  shift_mean(phi, params.volume_fraction);
+}
+
+RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
 
 }  // namespace
 
@@ -320,7 +469,19 @@ namespace {
 // Coarse-to-fine continuation: the whole algorithm on N/2, then the result interpolated to N
 // and relaxed there (and volume-corrected), so most steps happen on the cheaper grid.
 RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context) {
-  const auto t0 = Clock::now();
+  const bool hold = params.constrain == Constraint::kVolume;
+  if (context.resume && context.resume->cursor.grid == params.grid) {
+    // The checkpoint was taken on this grid: the coarse grids were done before it.
+    RunResult result = resumed_result(params, context);
+    Evolution evolution(params, context, result);
+    evolution.restore(*context.resume);
+    relax_and_constrain(evolution, params, result, hold);
+    return result;
+  }
+  // The clock of a run resumed on a coarser grid goes on from the checkpoint's.
+  const auto t0 = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+                                     std::chrono::duration<double>(
+                                         context.resume ? context.resume->elapsed : 0.0));
   RunParams coarse_params = params;
   coarse_params.grid = params.grid / 2;
   coarse_params.coarse_levels = params.coarse_levels - 1;
@@ -341,8 +502,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   result.initial = coarse.initial;
   Evolution evolution(params, context, result);
   evolution.continue_after(coarse, t0);
-  evolution.relax();
-  if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
+  relax_and_constrain(evolution, params, result, hold);
   result.wall_seconds = seconds_since(t0);
   return result;
 }
@@ -387,10 +547,12 @@ InitialFieldParams initial_field_params(const RunParams& params) {
 }  // namespace
 
 RunResult run_cmc(const RunParams& params, const RunContext& context) {
-  if (!is_nodal_surface(params.surface))  // sphere, cube, noise: a direct relaxation
+  if (!is_nodal_surface(params.surface)) {  // sphere, cube, noise: a direct relaxation
+    if (context.resume) return relax_field(Field(), params, context);
     return relax_field(make_initial_field(initial_field_params(params), params.grid, 2,
                                           context.decomposition),
                        params, context);
+  }
   RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
   return result;
@@ -398,34 +560,30 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
 
 namespace {
 
-// Steps 1-6 (and the volume constraint) for a nodal surface, without the final sharp measures.
+// Steps 1-6 (and the volume constraint) for a nodal surface, without the final sharp measures;
+// or the rest of them from the context's checkpoint.
 RunResult run_cmc_stages(const RunParams& params, const RunContext& context) {
-  const InitialFieldParams init = initial_field_params(params);
   const auto& d = context.decomposition;
   if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
       (!d || d->splits(params.grid / 2)))
     return run_cmc_from_coarse(params, context);
 
   RunResult result;
-  result.phi = make_initial_field(init, params.grid, 2, d);  // step 1
-  Field& phi = result.phi;
-  truncate_unit_interval(phi);  // step 2
-  result.initial = measure_field(phi, params.epsilon);
+  if (context.resume) {
+    result = resumed_result(params, context);
+  } else {
+    result.phi = make_initial_field(initial_field_params(params), params.grid, 2, d);  // step 1
+    truncate_unit_interval(result.phi);                                                // step 2
+    result.initial = measure_field(result.phi, params.epsilon);
+  }
   Evolution evolution(params, context, result);
-
-  const double wide = params.prerelax_epsilon_factor * params.epsilon;  // step 3
-  evolution.set_epsilon(wide);
-  double a = area(phi, wide);
-  for (int s = 0; s < params.prerelax_steps; ++s) a = evolution.advance("prerelax", a).area;
-  result.prerelax_steps = params.prerelax_steps;
-
-  result.bisection = bisect_threshold(phi, params.volume_fraction, params.bisection_tol,
-                                      params.bisection_max_it);  // step 4
-  apply_threshold(phi, params.volume_fraction, result.bisection->beta);
-  result.mass_before_shift = mass(phi);
-  shift_mean(phi, params.volume_fraction);  // step 5
-  evolution.relax();                        // step 6
-  if (params.constrain == Constraint::kVolume) constrain_volume(evolution, params, result);
+  if (context.resume) evolution.restore(*context.resume);
+  if (!evolution.resuming("relax") && !evolution.resuming("volume")) {
+    evolution.prerelax();                  // step 3
+    threshold_and_shift(params, result);   // steps 4 and 5
+  }
+  relax_and_constrain(evolution, params, result,
+                      params.constrain == Constraint::kVolume);  // step 6 and after
   return result;
 }
 

@@ -147,6 +147,43 @@ struct RunResult {
 // Called after every time step with the step's record.
 using ProgressFn = std::function<void(const StepRecord&)>;
 
+// Where a run stands between two time steps, in the terms of Section 4.4's algorithm: with the
+// fields of a Checkpoint, enough to continue it to the same bits.
+struct RunCursor {
+  int grid = 0;           // of the stage (N / 2^k during coarse-to-fine continuation)
+  std::string stage;      // "prerelax" (step 3), "relax" (step 6) or "volume" (a correction's)
+  int stage_steps = 0;    // steps taken in the stage's loop so far
+  double dt = 0.0;        // of the next step
+  double area = 0.0;      // area at the stage's epsilon before the next step
+  double volume = 0.0;    // "volume": the sharp volume fraction before the next step
+  int correction = 0;     // "volume": the mass correction in progress (0-based)
+  double slope = 1.0;     // "volume": the secant slope it used
+};
+
+// A run's whole state between two time steps (docs/reliability.md), apart from its
+// parameters (RunParams, which the caller keeps): the position, the result so far (its phi on cursor.grid; this process's block under a
+// decomposition) and the stepper's carried fields.
+struct Checkpoint {
+  RunCursor cursor;
+  RunResult result;
+  ChStepperState stepper;
+  int step = 0;        // time steps taken, all stages
+  double time = 0.0;   // model time
+  bool last_step_converged = true;
+  double elapsed = 0.0;  // wall seconds of the run so far
+};
+
+enum class RunControl { kContinue, kCheckpoint, kStop };
+
+// Thrown by a run whose RunContext::control said kStop before a time step; carries the
+// checkpoint of that moment (the run's result so far is in it).
+class RunInterrupted : public std::runtime_error {
+ public:
+  explicit RunInterrupted(Checkpoint c)
+      : std::runtime_error("the run was interrupted"), checkpoint(std::move(c)) {}
+  Checkpoint checkpoint;
+};
+
 // The run-time handles of a run, apart from its configuration (RunParams): neither changes the
 // surface a run computes (docs/architecture.md). A progress function converts to a context.
 struct RunContext {
@@ -159,6 +196,14 @@ struct RunContext {
   // The processes sharing the grid (null: this process holds it whole). A run gives the same
   // surface on any number of processes (docs/scaling.md).
   std::shared_ptr<const Decomposition> decomposition;
+  // Asked before every time step (may be empty): kCheckpoint calls `checkpoint` with the
+  // state at that moment (valid during the call only), kStop throws RunInterrupted carrying
+  // it. Under a decomposition every process must give the same answer at the same step.
+  std::function<RunControl()> control;
+  std::function<void(const Checkpoint&)> checkpoint;
+  // Continue from this checkpoint instead of starting (the caller checks that it belongs to
+  // the run's parameters; its fields are this process's blocks).
+  std::shared_ptr<const Checkpoint> resume;
 };
 
 // Section 4.4: V_ave(phi, alpha, beta).

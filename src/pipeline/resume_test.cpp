@@ -1,0 +1,172 @@
+// Checkpoint and resume (docs/reliability.md): a run stopped before any step and continued from
+// its checkpoint, written to checkpoint.bin and read back, ends bit for bit where the
+// uninterrupted run ends, in every stage of the algorithm and in both modes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <set>
+#include <fstream>
+#include <vector>
+
+#include "io/checkpoint.h"
+#include "io/run_report.h"
+#include "pipeline/cmc.h"
+#include "support/temp_dir.h"
+
+namespace cmcsurf {
+namespace {
+
+RunParams faithful_gyroid() {  // every stage: prerelax, relax, volume corrections
+  RunParams p;
+  p.surface = "G";
+  p.volume_fraction = 0.35;
+  p.grid = 16;
+  p.epsilon = 0.04;
+  p.tol = 1e-6;
+  p.volume_tol = 1e-5;
+  return p;
+}
+
+RunParams fast_gyroid() {  // coarse-to-fine, extrapolation, adaptive dt, relative V-cycle stop
+  RunParams p = faithful_gyroid();
+  p.grid = 32;
+  p.epsilon = 0.03;
+  p.coarse_levels = 1;
+  p.solver.rtol = 1e-2;
+  p.solver.extrapolate = true;
+  p.dt_max_factor = 8.0;
+  p.fast = true;
+  return p;
+}
+
+RunParams sphere() {  // a direct relaxation
+  RunParams p;
+  p.surface = "sphere";
+  p.grid = 16;
+  p.epsilon = 0.04;
+  p.tol = 1e-6;
+  p.max_steps = 60;
+  return p;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_same_field(const Field& a, const Field& b) {
+  ASSERT_EQ(a.n(), b.n());
+  long differ = 0;
+  for (int k = 0; k < a.nz(); ++k)
+    for (int j = 0; j < a.ny(); ++j)
+      for (int i = 0; i < a.nx(); ++i) differ += !same_bits(a(i, j, k), b(i, j, k));
+  EXPECT_EQ(differ, 0) << "cells whose bits differ";
+}
+
+// Everything but the wall-clock timings.
+void expect_same_run(const RunResult& a, const RunResult& b) {
+  expect_same_field(a.phi, b.phi);
+  ASSERT_EQ(a.history.size(), b.history.size());
+  for (std::size_t s = 0; s < a.history.size(); ++s) {
+    const StepRecord &x = a.history[s], &y = b.history[s];
+    EXPECT_EQ(x.step, y.step);
+    EXPECT_EQ(x.stage, y.stage) << "step " << x.step;
+    EXPECT_EQ(x.vcycles, y.vcycles) << "step " << x.step;
+    for (auto [u, v] : {std::pair{x.time, y.time}, {x.dt, y.dt}, {x.area, y.area},
+                        {x.d_area, y.d_area}, {x.d_phi, y.d_phi}, {x.energy, y.energy},
+                        {x.mass, y.mass}, {x.residual, y.residual}})
+      EXPECT_TRUE(same_bits(u, v)) << "step " << x.step << ": " << u << " vs " << v;
+  }
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.volume_steps, b.volume_steps);
+  EXPECT_EQ(a.prerelax_steps, b.prerelax_steps);
+  EXPECT_EQ(a.coarse_steps, b.coarse_steps);
+  EXPECT_EQ(a.vcycles, b.vcycles);
+  EXPECT_EQ(a.unconverged_steps, b.unconverged_steps);
+  EXPECT_EQ(a.converged, b.converged);
+  EXPECT_EQ(a.stop_reason, b.stop_reason);
+  EXPECT_EQ(a.volume_iterates.size(), b.volume_iterates.size());
+  EXPECT_EQ(a.volume_converged, b.volume_converged);
+  // The reports agree to the last digit (timings apart).
+  nlohmann::json ja = run_report(RunParams{}, a, 1), jb = run_report(RunParams{}, b, 1);
+  for (const char* key : {"wall_seconds", "solver_seconds", "measure_seconds", "volume_seconds",
+                          "seconds_per_vcycle", "timings"}) {
+    ja.erase(key);
+    jb.erase(key);
+  }
+  EXPECT_EQ(ja.dump(), jb.dump());
+}
+
+// Stops the run before its `at`-th time step (counting from 1) and returns the checkpoint,
+// written to disk and read back.
+Checkpoint stop_before(const RunParams& p, int at, const TempDir& tmp) {
+  RunContext context;
+  int asked = 0;
+  context.control = [&] { return ++asked == at ? RunControl::kStop : RunControl::kContinue; };
+  try {
+    run_cmc(p, context);
+  } catch (RunInterrupted& stop) {
+    const auto path = tmp / kCheckpointFileName;
+    write_checkpoint(path, params_json(p), stop.checkpoint);
+    CheckpointFile f = read_checkpoint(path);
+    EXPECT_EQ(f.params, params_json(p));
+    return std::move(f.checkpoint);
+  }
+  ADD_FAILURE() << "the run ended before step " << at;
+  return {};
+}
+
+RunResult resume(const RunParams& p, Checkpoint c) {
+  RunContext context;
+  context.resume = std::make_shared<const Checkpoint>(std::move(c));
+  return run_cmc(p, context);
+}
+
+void check_resumes(const RunParams& p, std::vector<std::string> want_stages) {
+  const RunResult whole = run_cmc(p);
+  const int steps = int(whole.history.size());
+  TempDir tmp("cmcsurf-resume");
+  // A stop before every stage's first and second step, and half-way through each stage.
+  std::vector<int> at;
+  for (int s = 0; s < steps; ++s) {
+    const bool first = s == 0 || whole.history[s].stage != whole.history[s - 1].stage;
+    if (first) at.insert(at.end(), {s + 1, s + 2});
+  }
+  at.push_back(steps / 2);
+  at.push_back(steps);  // before the last step
+  std::set<std::string> seen;
+  for (int k : at) {
+    if (k < 1 || k > steps) continue;
+    SCOPED_TRACE(::testing::Message() << p.surface << " N " << p.grid << ": stopped before step "
+                                      << k << " (" << whole.history[k - 1].stage << ")");
+    Checkpoint c = stop_before(p, k, tmp);
+    seen.insert(c.cursor.stage + "@" + std::to_string(c.cursor.grid));
+    expect_same_run(resume(p, std::move(c)), whole);
+  }
+  for (const std::string& s : want_stages) EXPECT_TRUE(seen.count(s)) << "no stop in " << s;
+}
+
+TEST(Resume, FaithfulRunEndsOnTheSameBitsFromEveryStage) {
+  check_resumes(faithful_gyroid(), {"prerelax@16", "relax@16", "volume@16"});
+}
+
+TEST(Resume, FastRunEndsOnTheSameBitsFromEveryStageAndGrid) {
+  check_resumes(fast_gyroid(), {"prerelax@16", "relax@16", "relax@32", "volume@32"});
+}
+
+TEST(Resume, DirectRelaxationEndsOnTheSameBits) { check_resumes(sphere(), {"relax@16"}); }
+
+// Periodic checkpoints leave the run itself untouched.
+TEST(Resume, CheckpointsDoNotChangeTheRun) {
+  const RunParams p = fast_gyroid();
+  const RunResult plain = run_cmc(p);
+  RunContext context;
+  int calls = 0, written = 0;
+  context.control = [&] { return ++calls % 3 == 0 ? RunControl::kCheckpoint : RunControl::kContinue; };
+  context.checkpoint = [&](const Checkpoint& c) {
+    ++written;
+    EXPECT_EQ(c.step + 1, calls);
+  };
+  expect_same_run(run_cmc(p, context), plain);
+  EXPECT_GT(written, 5);
+}
+
+}  // namespace
+}  // namespace cmcsurf
