@@ -51,6 +51,59 @@ nlohmann::json params_json(const RunParams& p) {
   };
 }
 
+RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
+  RunParams p = base;
+  auto take = [&](const char* key, auto& value, bool optional = false) {
+    if (optional && !j.contains(key)) return;
+    try {
+      j.at(key).get_to(value);
+    } catch (const nlohmann::json::exception& e) {
+      throw std::runtime_error(fmt::format("parameter '{}': {}", key, e.what()));
+    }
+  };
+  auto choose = [&](const char* key, auto& value, auto a, const char* a_name, auto b,
+                    const char* b_name) {
+    std::string s;
+    take(key, s);
+    if (s != a_name && s != b_name)
+      throw std::runtime_error(
+          fmt::format("parameter '{}': '{}' is neither {} nor {}", key, s, a_name, b_name));
+    value = s == a_name ? a : b;
+  };
+  take("surface", p.surface, true);
+  take("volume_fraction", p.volume_fraction, true);
+  take("grid", p.grid);
+  take("epsilon", p.epsilon);
+  take("dt_factor", p.dt_factor);
+  choose("stop", p.stop, StopRule::kArea, "area", StopRule::kPhi, "phi");
+  take("tol", p.tol);
+  take("max_steps", p.max_steps);
+  choose("smoother", p.smoother, SweepOrder::kRedBlack, "redblack", SweepOrder::kLexicographic,
+         "lex");
+  take("radius", p.radius);
+  take("seed", p.seed);
+  take("noise_amplitude", p.noise_amplitude);
+  take("prerelax_steps", p.prerelax_steps);
+  take("prerelax_epsilon_factor", p.prerelax_epsilon_factor);
+  take("bisection_tol", p.bisection_tol);
+  take("bisection_max_it", p.bisection_max_it);
+  choose("constrain", p.constrain, Constraint::kVolume, "volume", Constraint::kMass, "mass");
+  take("volume_tol", p.volume_tol);
+  take("max_volume_corrections", p.max_volume_corrections);
+  take("mg_tol", p.solver.tol);
+  take("mg_rtol", p.solver.rtol);
+  take("coarse_levels", p.coarse_levels);
+  take("dt_max_factor", p.dt_max_factor);
+  take("extrapolate", p.solver.extrapolate);
+  take("fast", p.fast);
+  take("max_vcycles", p.solver.max_vcycles);
+  take("pre_sweeps", p.solver.fas.pre_sweeps);
+  take("post_sweeps", p.solver.fas.post_sweeps);
+  take("coarsest_max_sweeps", p.solver.fas.coarsest_max_sweeps);
+  take("coarsest_reduction", p.solver.fas.coarsest_reduction);
+  return p;
+}
+
 nlohmann::json measures_json(const Measures& m) {
   // NaN (an error estimate not computed) is written as null.
   auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };

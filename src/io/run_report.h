@@ -11,6 +11,10 @@ namespace cmcsurf {
 
 // Every parameter of a run, as the command line names them.
 nlohmann::json params_json(const RunParams& p);
+// The inverse of params_json (a checkpoint's or sweep.json's parameters): every key must be
+// present with its type, except that keys missing from a sweep's shared parameters (surface,
+// volume_fraction) keep `base`'s values. Throws std::runtime_error naming the bad key.
+RunParams params_from_json(const nlohmann::json& j, const RunParams& base = {});
 nlohmann::json measures_json(const Measures& m);
 
 // The report: the required keys at top level (surface, grid, epsilon, dt,

@@ -41,3 +41,37 @@ TEST(RunReport, MeasuresWithoutAnErrorEstimateWriteNull) {
 
 }  // namespace
 }  // namespace cmcsurf
+
+namespace cmcsurf {
+namespace {
+
+TEST(RunReport, ParametersReadBackExactly) {
+  RunParams p;
+  p.surface = "expr:cos(x)";
+  p.volume_fraction = 0.3;
+  p.grid = 96;
+  p.epsilon = 0.013;
+  p.stop = StopRule::kPhi;
+  p.smoother = SweepOrder::kLexicographic;
+  p.constrain = Constraint::kMass;
+  p.seed = 18446744073709551615ull;
+  p.solver.rtol = 1e-2;
+  p.solver.extrapolate = true;
+  p.solver.fas.coarsest_reduction = 1e-7;
+  p.coarse_levels = 2;
+  p.fast = true;
+  EXPECT_EQ(params_json(params_from_json(params_json(p))), params_json(p));
+  nlohmann::json j = params_json(p);
+  j.erase("surface");  // a sweep's shared parameters: the member's come from the base
+  RunParams base;
+  base.surface = "D";
+  EXPECT_EQ(params_from_json(j, base).surface, "D");
+  j["stop"] = "energy";
+  EXPECT_THROW(params_from_json(j), std::runtime_error);
+  j = params_json(p);
+  j.erase("grid");
+  EXPECT_THROW(params_from_json(j), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace cmcsurf
