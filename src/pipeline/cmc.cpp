@@ -450,7 +450,8 @@ void threshold_and_shift(const RunParams& params, RunResult& result) {
   shift_mean(phi, params.volume_fraction);
 }
 
-RunResult run_cmc_stages(const RunParams& params, const RunContext& context);
+RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
+                         const Field* start = nullptr);
 
 }  // namespace
 
@@ -558,13 +559,21 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
   return result;
 }
 
+RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
+                             const RunContext& context) {
+  RunResult result = run_cmc_stages(params, context, &phi0);
+  measure_final(result, params);
+  return result;
+}
+
 namespace {
 
 // Steps 1-6 (and the volume constraint) for a nodal surface, without the final sharp measures;
 // or the rest of them from the context's checkpoint.
-RunResult run_cmc_stages(const RunParams& params, const RunContext& context) {
+RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
+                         const Field* start) {
   const auto& d = context.decomposition;
-  if (params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
+  if (!start && params.coarse_levels > 0 && check_coarsenable(params.grid / 2).empty() &&
       (!d || d->splits(params.grid / 2)))
     return run_cmc_from_coarse(params, context);
 
@@ -572,7 +581,12 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context) {
   if (context.resume) {
     result = resumed_result(params, context);
   } else {
-    result.phi = make_initial_field(initial_field_params(params), params.grid, 2, d);  // step 1
+    if (start) {  // step 1 given (run_cmc_from_field)
+      result.phi = Field(params.grid, 2, d);
+      copy_interior(*start, result.phi);
+    } else {
+      result.phi = make_initial_field(initial_field_params(params), params.grid, 2, d);  // step 1
+    }
     truncate_unit_interval(result.phi);                                                // step 2
     result.initial = measure_field(result.phi, params.epsilon);
   }

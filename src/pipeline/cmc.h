@@ -234,4 +234,11 @@ void prolongate_trilinear(const Field& coarse, Field& fine);
 // parameters the caller should have validated.
 RunResult run_cmc(const RunParams& params, const RunContext& context = {});
 
+// Steps 2-6 and the volume constraint (Section 4.4) from a given phi^0 (copied, any ghost width)
+// instead of the surface's formula, then the final measures, as run_cmc: a user's own field
+// relaxed to the CMC surface at params.volume_fraction (python relax()). No coarse-to-fine
+// continuation (params.coarse_levels is ignored: there is no coarser version of the field).
+RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
+                             const RunContext& context = {});
+
 }  // namespace cmcsurf
