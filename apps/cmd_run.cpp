@@ -8,12 +8,15 @@
 #include "commands.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
+#include "io/png.h"
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "mesh_options.h"
 #include "multigrid/fas.h"
 #include "parallel/decomposition.h"
+#include "pipeline/preview.h"
 #include "pipeline/sweep.h"
+#include "report_page.h"
 
 namespace cmcsurf::cli {
 
@@ -27,6 +30,7 @@ struct RunCommand {
   bool quiet = false;
   bool float32 = false;
   std::string mesh_format;  // empty: no surface mesh
+  PageOptions pages;        // --no-preview, --no-report
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -131,10 +135,16 @@ int run(RunCommand& cmd) {
   }
   const Field& field = world->distributed() ? whole : r.phi;
   const CmcQuality quality = measure_cmc_quality(field, p);  // docs/families.md
+  std::optional<RunPreview> preview;  // docs/report.md
+  if (!cmd.pages.no_preview) preview = make_run_preview(field, p, r, quality);
+  nlohmann::json extra = decomposition_json(*world);  // io/run_folder.h
+  if (preview) extra["preview_seconds"] = preview->seconds;
   const nlohmann::json report = write_run_folder(
-      dir, p, r, field, quality, threads, cmd.float32, decomposition_json(*world), [&] {
+      dir, p, r, field, quality, threads, cmd.float32, extra, [&] {
         if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
+        if (preview) write_png(dir / "preview.png", preview->image);
       });
+  if (!cmd.pages.no_report) write_run_page(dir);
   if (!cmd.quiet) print_summary(p, r, quality, report, dir);
   print_warnings(p, r);
   return 0;
@@ -155,6 +165,7 @@ CommandFn add_run_command(CLI::App& root) {
                   "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
                   "unit-cell coordinates, with surface.FORMAT.json");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
+  add_page_options(*app, cmd->pages);
   return {app, [cmd]() -> int { return run(*cmd); }};
 }
 

@@ -11,9 +11,12 @@
 #include "commands.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
+#include "io/png.h"
 #include "io/run_report.h"
 #include "io/vti.h"
+#include "pipeline/preview.h"
 #include "pipeline/sweep.h"
+#include "report_page.h"
 
 namespace cmcsurf::cli {
 
@@ -34,6 +37,7 @@ struct SweepCommand {
   bool no_plot = false;
   std::string python = "/usr/bin/python3";
   std::string plot_script;
+  PageOptions pages;  // --no-preview, --no-report
 };
 
 std::string shell_quote(const std::string& s) {
@@ -135,6 +139,7 @@ int sweep(SweepCommand& cmd) {
   const auto t0 = std::chrono::steady_clock::now();
   ensure_directory(dir);
   std::vector<nlohmann::json> reports;
+  std::vector<GalleryMember> gallery;
   Progress progress(cmd.quiet);
   auto starting = [&](const SweepMember& m) {
     if (!cmd.quiet)
@@ -143,19 +148,32 @@ int sweep(SweepCommand& cmd) {
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
     const CmcQuality quality = measure_cmc_quality(r.phi, m.params);
+    std::optional<RunPreview> preview;  // docs/report.md
+    if (!cmd.pages.no_preview) preview = make_run_preview(r.phi, m.params, r, quality);
+    nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
+                            {"member", m.name},
+                            {"started_from", m.started_from}};
+    if (preview) extra["preview_seconds"] = preview->seconds;
     reports.push_back(write_run_folder(dir / m.name, m.params, r, r.phi, quality, threads,
-                                       cmd.float32,
-                                       {{"volume_fraction_target", m.alpha},  // also if continued
-                                        {"member", m.name},
-                                        {"started_from", m.started_from}}));
+                                       cmd.float32, extra, [&] {
+                                         if (preview)
+                                           write_png(dir / m.name / "preview.png", preview->image);
+                                       }));
+    if (!cmd.pages.no_report) write_run_page(dir / m.name);
+    if (preview)
+      gallery.push_back({m.surface, m.name, m.alpha, r.final.mean_curvature,
+                         std::move(preview->surfaces.relaxed)});
     write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
     progress.finish();
     if (!cmd.quiet) print_member(m, r, quality);
   };
   run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_json_atomic(dir / "sweep.json", sweep_summary(sp, reports.size(), threads, wall));
   if (!cmd.no_plot) plot(cmd, dir);
+  nlohmann::json summary = sweep_summary(sp, reports.size(), threads, wall);
+  if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
+  write_json_atomic(dir / "sweep.json", summary);
+  if (!cmd.pages.no_report) write_sweep_page(dir);
   if (!cmd.quiet)
     std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
                              reports.size(), wall, dir.string(),
@@ -189,6 +207,7 @@ CommandFn add_sweep_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
+  add_page_options(*app, cmd->pages);
   return {app, [cmd]() -> int { return sweep(*cmd); }};
 }
 

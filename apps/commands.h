@@ -15,5 +15,6 @@ CommandFn add_surfaces_command(CLI::App& root);
 CommandFn add_sweep_command(CLI::App& root);   // apps/cmd_sweep.cpp
 CommandFn add_mesh_command(CLI::App& root);    // apps/cmd_mesh.cpp
 CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
+CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp
 
 }  // namespace cmcsurf::cli

@@ -1,0 +1,56 @@
+// cmcsurf report DIR: (re)writes DIR/report.html from a run or sweep folder (docs/report.md).
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "report_page.h"
+
+namespace cmcsurf::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReportCommand {
+  std::string dir;
+  bool quiet = false;
+};
+
+int report(const ReportCommand& cmd) {
+  const fs::path dir(cmd.dir);
+  if (!fs::is_directory(dir))
+    throw UsageError(fmt::format(
+        "DIR: '{}' is not a directory; accepted: a run folder (with report.json) or a sweep "
+        "folder (with sweep.json)",
+        cmd.dir));
+  const bool sweep = fs::exists(dir / "sweep.json");
+  if (!sweep && !fs::exists(dir / "report.json"))
+    throw UsageError(fmt::format(
+        "DIR: '{}' has neither report.json (a run folder) nor sweep.json (a sweep folder); "
+        "a run or sweep writes these last, so the run may have stopped before it finished",
+        cmd.dir));
+  const double seconds = sweep ? write_sweep_page(dir) : write_run_page(dir);
+  if (!cmd.quiet)
+    std::cerr << fmt::format("wrote {} in {:.2f} s\n", (dir / "report.html").string(), seconds);
+  return 0;
+}
+
+}  // namespace
+
+CommandFn add_report_command(CLI::App& root) {
+  auto cmd = std::make_shared<ReportCommand>();
+  CLI::App* app = root.add_subcommand(
+      "report",
+      "Write DIR/report.html: one self-contained page (3D view, convergence, curvature "
+      "histogram, key numbers) from a run or sweep folder; run and sweep write it themselves "
+      "unless --no-report");
+  app->add_option("DIR", cmd->dir, "A run folder (report.json) or a sweep folder (sweep.json)")
+      ->required();
+  app->add_flag("--quiet", cmd->quiet, "No output");
+  return {app, [cmd]() -> int { return report(*cmd); }};
+}
+
+}  // namespace cmcsurf::cli

@@ -1,0 +1,40 @@
+// The pictures and pages of a run or sweep folder (docs/report.md): --no-preview and
+// --no-report, and report.html, which is made from the folder's files alone (report.json,
+// history.csv, curvature_histogram.csv, field.vti; for a sweep also sweep.json, sweep.csv,
+// families.png and each member's folder), so `cmcsurf report DIR` remakes it at any time.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "render/draw_surface.h"
+
+namespace cmcsurf::cli {
+
+struct PageOptions {
+  bool no_preview = false;  // run, sweep: no preview.png (and no gallery.png)
+  bool no_report = false;   // run, sweep: no report.html at the end
+};
+void add_page_options(CLI::App& app, PageOptions& options);
+
+// Writes dir/report.html for a run folder; returns its wall time in seconds. Throws
+// std::runtime_error naming the file that is missing or unreadable.
+double write_run_page(const std::filesystem::path& dir);
+// Writes dir/report.html for a sweep folder (sweep.json beside the member folders).
+double write_sweep_page(const std::filesystem::path& dir);
+
+// A sweep member's unit cell for gallery.png (the relaxed surface of its preview stage).
+struct GalleryMember {
+  std::string surface;
+  std::string name;
+  double alpha = 0.0;
+  double mean_curvature = 0.0;
+  DrawSurface relaxed;
+};
+// Draws dir/gallery.png: one row per family, members in sweep order, on one colour scale
+// centred on H = 0, beside dir/families.png if it exists. Returns the stage's wall time.
+double write_gallery(const std::filesystem::path& dir, const std::vector<GalleryMember>& members);
+
+}  // namespace cmcsurf::cli

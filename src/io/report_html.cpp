@@ -1,0 +1,239 @@
+#include "io/report_html.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "render/assets.h"
+#include "render/colormap.h"
+
+namespace cmcsurf {
+
+static_assert(std::endian::native == std::endian::little, "the page reads little-endian arrays");
+
+std::string base64(std::string_view bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16 |
+                            std::uint32_t(std::uint8_t(bytes[i + 1])) << 8 |
+                            std::uint8_t(bytes[i + 2]);
+    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[v >> s & 63];
+  }
+  if (i < bytes.size()) {
+    std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) v |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
+    out += kAlphabet[v >> 18 & 63];
+    out += kAlphabet[v >> 12 & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[v >> 6 & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+namespace {
+
+template <class T>
+std::string_view as_bytes(const std::vector<T>& v) {
+  return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
+}
+
+}  // namespace
+
+nlohmann::json mesh_json(const DrawSurface& s) {
+  std::vector<std::uint16_t> positions(s.positions.size() * 3);
+  for (std::size_t i = 0; i < s.positions.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      positions[3 * i + a] = std::uint16_t(
+          std::lround(std::clamp((s.positions[i][a] - s.origin) * 65535.0f, 0.0f, 65535.0f)));
+  std::vector<std::int8_t> normals(s.normals.size() * 3);
+  for (std::size_t i = 0; i < s.normals.size(); ++i)
+    for (int a = 0; a < 3; ++a) normals[3 * i + a] = std::int8_t(std::lround(127.0f * s.normals[i][a]));
+  nlohmann::json out = {{"vertices", s.positions.size()},
+                        {"triangles", s.triangles.size()},
+                        {"origin", s.origin},
+                        {"positions", base64(as_bytes(positions))},
+                        {"normals", base64(as_bytes(normals))},
+                        {"curvature", base64(as_bytes(s.curvature))}};
+  if (s.positions.size() <= 65536) {
+    std::vector<std::uint16_t> indices(s.triangles.size() * 3);
+    for (std::size_t t = 0; t < s.triangles.size(); ++t)
+      for (int c = 0; c < 3; ++c) indices[3 * t + c] = std::uint16_t(s.triangles[t][c]);
+    out["index_bytes"] = 2;
+    out["indices"] = base64(as_bytes(indices));
+  } else {
+    out["index_bytes"] = 4;
+    out["indices"] = base64(as_bytes(s.triangles));
+  }
+  return out;
+}
+
+nlohmann::json color_scale_json(const ColorScale& scale) {
+  nlohmann::json stops = nlohmann::json::array();
+  for (const ColorStop& s : diverging_stops())
+    stops.push_back({s.t, s.color.r, s.color.g, s.color.b});
+  return {{"centre", scale.centre}, {"half_range", scale.half_range}, {"stops", stops}};
+}
+
+const std::vector<NumberRow>& run_number_rows() {
+  static const std::vector<NumberRow> rows = {
+      {"surface", "surface", "", ""},
+      {"grid", "grid N", "{}", ""},
+      {"epsilon", "ε", "{:.4g}", ""},
+      {"volume_fraction_target", "target volume fraction α", "{:.6g}", ""},
+      {"volume_fraction", "volume fraction (sharp)", "{:.6f}", ""},
+      {"area", "area (sharp)", "{:.6f}", "area_error"},
+      {"mean_curvature", "mean curvature H (sharp)", "{:+.6f}", "mean_curvature_error"},
+      {"mean_curvature_mu", "H from μ", "{:+.6f}", ""},
+      {"mean_curvature_std", "local H std (relaxed)", "{:.4g}", ""},
+      {"nodal_mean_curvature", "nodal H", "{:+.6f}", ""},
+      {"nodal_mean_curvature_std", "local H std (nodal)", "{:.4g}", ""},
+      {"nodal_std_ratio", "nodal / relaxed H std", "{:.3g}", ""},
+      {"nodal_area_excess", "nodal area excess", "{:+.4%}", ""},
+      {"area_diffuse", "area (diffuse, App. B)", "{:.6f}", ""},
+      {"mean_curvature_diffuse", "H (diffuse, App. B)", "{:+.6f}", ""},
+      {"steps", "time steps", "{}", ""},
+      {"vcycles", "V-cycles", "{}", ""},
+      {"vcycles_per_step", "V-cycles per step", "{:.3g}", ""},
+      {"converged", "converged", "", ""},
+      {"stop_reason", "stop reason", "", ""},
+      {"wall_seconds", "solve (s)", "{:.3g}", ""},
+      {"measure_seconds", "measures (s)", "{:.3g}", ""},
+      {"quality_seconds", "quality stage (s)", "{:.3g}", ""},
+      {"preview_seconds", "preview stage (s)", "{:.3g}", ""},
+      {"version", "cmcsurf version", "", ""},
+  };
+  return rows;
+}
+
+std::string html_escape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string format_number(const std::string& format, double x) {
+  // "{:+.4%}": a percentage (fmt has no % type).
+  if (format.size() > 2 && format.compare(format.size() - 2, 2, "%}") == 0)
+    return fmt::format(fmt::runtime(format.substr(0, format.size() - 2) + "f}"), 100.0 * x) + "%";
+  return fmt::format(fmt::runtime(format), x);
+}
+
+std::string numbers_table_html(const nlohmann::json& report, const std::vector<NumberRow>& rows,
+                               const std::string& id) {
+  std::string out = fmt::format("<table class=\"numbers\" id=\"{}\">\n", html_escape(id));
+  for (const NumberRow& row : rows) {
+    if (!report.contains(row.key)) continue;
+    const nlohmann::json& v = report[row.key];
+    std::string cell;
+    if (v.is_number()) {
+      const double x = v.get<double>();
+      std::string text = v.is_number_integer() ? fmt::format("{}", v.get<long long>())
+                                               : format_number(row.format, x);
+      if (!row.error_key.empty() && report.contains(row.error_key) &&
+          report[row.error_key].is_number())
+        text += fmt::format(" ± {:.1e}", report[row.error_key].get<double>());
+      cell = fmt::format("<td data-key=\"{}\" data-value=\"{}\">{}</td>", html_escape(row.key),
+                         v.is_number_integer() ? fmt::format("{}", v.get<long long>())
+                                               : fmt::format("{:.17g}", x),
+                         html_escape(text));
+    } else if (v.is_null()) {
+      cell = fmt::format("<td data-key=\"{}\">–</td>", html_escape(row.key));
+    } else {
+      const std::string text = v.is_string() ? v.get<std::string>() : v.dump();
+      cell = fmt::format("<td data-key=\"{}\">{}</td>", html_escape(row.key), html_escape(text));
+    }
+    out += fmt::format("<tr><th>{}</th>{}</tr>\n", html_escape(row.label), cell);
+  }
+  return out + "</table>\n";
+}
+
+namespace {
+
+// Text inside <script>: "</script" (any case) and "<!--" would end or confuse the element. In
+// JSON '<' occurs only inside strings, where \u003c reads back the same; in the script bundle
+// "<\/" and "<\!" read back the same inside strings and regular expressions.
+std::string json_in_script(const nlohmann::json& data) {
+  std::string out;
+  for (char c : data.dump()) {
+    if (c == '<')
+      out += "\\u003c";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string js_in_script(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    out += s[i];
+    if (s[i] == '<' && i + 1 < s.size() && (s[i + 1] == '/' || s[i + 1] == '!')) out += '\\';
+  }
+  return out;
+}
+
+constexpr const char* kStyle = R"(
+body { font: 15px/1.45 "DejaVu Sans", system-ui, sans-serif; margin: 0 auto; max-width: 1180px;
+       padding: 12px 20px 40px; color: #1b1b1f; }
+h1 { font-size: 24px; margin: 10px 0 2px; } h2 { font-size: 18px; margin: 26px 0 8px; }
+.sub { color: #555; margin: 0 0 12px; }
+#status { font-size: 12px; color: #777; }
+#status.error { color: #b00; font-weight: bold; }
+.viewer { display: flex; gap: 16px; align-items: flex-start; flex-wrap: wrap; }
+#view { width: 760px; height: 560px; border: 1px solid #ccc; background: #fff; cursor: grab; }
+.controls { min-width: 220px; }
+.controls label { display: block; margin: 4px 0; }
+.controls .bar { width: 28px; height: 260px; border: 1px solid #888; display: inline-block; }
+.ticks { display: inline-block; vertical-align: top; height: 262px; position: relative; margin-left: 6px; width: 90px; }
+.ticks span { position: absolute; font-size: 12px; transform: translateY(-50%); }
+table.numbers { border-collapse: collapse; }
+table.numbers th { text-align: left; font-weight: normal; color: #444; padding: 2px 16px 2px 0; }
+table.numbers td { font-family: "DejaVu Sans Mono", monospace; padding: 2px 0; }
+table.members { border-collapse: collapse; font-size: 13px; }
+table.members td, table.members th { padding: 2px 8px; border-bottom: 1px solid #eee; text-align: right; }
+table.members tr.member { cursor: pointer; } table.members tr.selected { background: #eef3ff; }
+.charts { display: flex; flex-wrap: wrap; gap: 18px; }
+svg text { font-size: 11px; fill: #333; }
+img.plot { max-width: 100%; border: 1px solid #eee; }
+)";
+
+}  // namespace
+
+std::string report_page_html(const ReportPage& page) {
+  std::string out = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  out += fmt::format("<title>{}</title>\n<style>{}</style>\n</head>\n<body>\n",
+                     html_escape(page.title), kStyle);
+  out += fmt::format("<h1>{}</h1>\n<p class=\"sub\">{}</p>\n", html_escape(page.title),
+                     html_escape(page.subtitle));
+  out += "<div id=\"status\" data-status=\"loading\">loading the 3D view…</div>\n";
+  out += "<section class=\"viewer\"><canvas id=\"view\"></canvas><div class=\"controls\" "
+         "id=\"controls\"></div></section>\n";
+  out += page.body;
+  out += "<script type=\"application/json\" id=\"cmc-data\">" + json_in_script(page.data) +
+         "</script>\n";
+  if (report_page_has_viewer())
+    out += "<script>" + js_in_script(report_page_js()) + "</script>\n";
+  else
+    out += "<script>document.getElementById('status').textContent = 'This cmcsurf was built "
+           "without npm, so its pages have no 3D view (docs/report.md).';</script>\n";
+  out += "</body>\n</html>\n";
+  return out;
+}
+
+}  // namespace cmcsurf

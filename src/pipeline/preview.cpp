@@ -1,0 +1,70 @@
+#include "pipeline/preview.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "measure/sharp_surface.h"
+#include "surfaces/initial.h"
+#include "surfaces/nodal_level.h"
+
+namespace cmcsurf {
+
+PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, double nodal_level,
+                                 double mean_curvature, int max_cells, bool with_nodal) {
+  PreviewSurfaces out;
+  {
+    Field psi(phi.n(), 2);
+    tanh_profile_inverse(phi, psi);
+    out.relaxed = draw_surface(psi, max_cells);
+  }
+  double spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
+  if (with_nodal && is_nodal_surface(surface)) {
+    InitialFieldParams init;
+    init.surface = surface;
+    NodalLevelSet nodal;
+    nodal.f = make_initial_field(init, phi.n(), 2);
+    nodal.level = nodal_level;
+    out.nodal = draw_surface(nodal_level_function(nodal), max_cells);
+    out.has_nodal = true;
+    spread = std::max(spread, curvature_spread(out.nodal, mean_curvature, 0.95));
+  }
+  out.scale.centre = mean_curvature;
+  out.scale.half_range = std::max(spread, 1e-3 * std::max(1.0, std::abs(mean_curvature)));
+  return out;
+}
+
+PreviewLabels preview_labels(const std::string& surface, double alpha, double mean_curvature,
+                             int grid, double epsilon, double relaxed_std, double nodal_std,
+                             bool has_nodal) {
+  std::string name = surface;
+  if (name.size() > 36) name = name.substr(0, 33) + "...";
+  PreviewLabels l;
+  l.title = fmt::format("{}    α = {:.4g}    H = {:+.5g}", name, alpha, mean_curvature);
+  l.subtitle = fmt::format(
+      "φ = 1/2 on {}³ cells, ε = {:.3g}: colour is the local mean curvature, centred on H", grid,
+      epsilon);
+  l.relaxed = fmt::format("relaxed (CMC): H std {:.3g}", relaxed_std);
+  if (has_nodal) l.nodal = fmt::format("nodal, same volume: H std {:.3g}", nodal_std);
+  return l;
+}
+
+RunPreview make_run_preview(const Field& phi, const RunParams& p, const RunResult& r,
+                            const CmcQuality& q) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunPreview out;
+  const double h = r.final.mean_curvature;
+  out.surfaces = preview_surfaces(phi, p.surface, q.nodal_level, h, kPreviewCells, q.has_nodal);
+  const double alpha = is_nodal_surface(p.surface) ? p.volume_fraction : r.final.volume_fraction;
+  const PreviewLabels labels = preview_labels(p.surface, alpha, h, p.grid, p.epsilon,
+                                              q.relaxed.std, q.nodal.std, out.surfaces.has_nodal);
+  out.image = render_preview(out.surfaces.relaxed,
+                             out.surfaces.has_nodal ? &out.surfaces.nodal : nullptr,
+                             out.surfaces.scale, labels);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,52 @@
+// The preview stage of a run (after the quality stage; docs/report.md): the relaxed phi = 1/2
+// surface and the nodal twin {F = c} as drawable meshes with local mean curvature, one colour
+// scale for both, and preview.png's picture. Its wall time is report.json's preview_seconds.
+#pragma once
+
+#include <string>
+
+#include "grid/field.h"
+#include "measure/quality.h"
+#include "pipeline/cmc.h"
+#include "render/draw_surface.h"
+#include "render/image.h"
+#include "render/preview.h"
+
+namespace cmcsurf {
+
+// Lattice cells per side (at most) of the drawn meshes: preview.png and a sweep's gallery.png,
+// a run's report.html, each member of a sweep's report.html.
+inline constexpr int kPreviewCells = 64;
+inline constexpr int kPageCells = 48;  // the meshes inlined in a run's report.html
+inline constexpr int kSweepMemberCells = 32;
+
+struct PreviewSurfaces {
+  DrawSurface relaxed;
+  bool has_nodal = false;
+  DrawSurface nodal;
+  // Centred on the run's mean curvature; reaching the 95th area percentile of |H - centre|
+  // over both surfaces (at least 1e-3 max(1, |H|)).
+  ColorScale scale;
+};
+
+// phi: the whole final field (any ghost width). nodal_level: c of the nodal surface
+// {F + 1/2 = c} (CmcQuality::nodal_level), used when `surface` is nodal.
+PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, double nodal_level,
+                                 double mean_curvature, int max_cells, bool with_nodal = true);
+
+struct RunPreview {
+  PreviewSurfaces surfaces;
+  Image image;  // preview.png
+  double seconds = 0.0;
+};
+
+// The stage: surfaces at kPreviewCells and the picture with its title (surface, alpha, H).
+RunPreview make_run_preview(const Field& phi, const RunParams& p, const RunResult& r,
+                            const CmcQuality& q);
+
+// Title and labels of preview.png from the report's values.
+PreviewLabels preview_labels(const std::string& surface, double alpha, double mean_curvature,
+                             int grid, double epsilon, double relaxed_std, double nodal_std,
+                             bool has_nodal);
+
+}  // namespace cmcsurf
