@@ -17,6 +17,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 #include "report_page.h"
+#include "run_control.h"
 
 namespace cmcsurf::cli {
 
@@ -31,6 +32,7 @@ struct RunCommand {
   bool float32 = false;
   std::string mesh_format;  // empty: no surface mesh
   PageOptions pages;        // --no-preview, --no-report
+  CheckpointOptions checkpoints;  // --checkpoint-every, --resume
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -47,6 +49,15 @@ void check_decomposable(const RunParams& p, const Decomposition& world) {
     if (const std::string why = world.check_grid(p.grid >> k); !why.empty())
       throw UsageError(
           fmt::format("--coarse-levels {}: the grid of level {}: {}", p.coarse_levels, k, why));
+}
+
+// How to continue an interrupted run in dir: this executable (under mpirun with as many
+// processes) and --resume.
+std::string resume_command(const std::filesystem::path& dir, const Decomposition& world) {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  std::string cmd = fmt::format("{} run --resume {}", ec ? "cmcsurf" : exe.string(), dir.string());
+  return world.distributed() ? fmt::format("mpirun -np {} {}", world.ranks(), cmd) : cmd;
 }
 
 void validate(RunCommand& cmd) {
@@ -103,13 +114,40 @@ void print_warnings(const RunParams& p, const RunResult& r) {
         r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
 }
 
-int run(RunCommand& cmd) {
+int run(RunCommand& cmd, const CLI::App& app) {
+  const bool resuming = !cmd.checkpoints.resume.empty();
+  if (resuming) {
+    if (app.count("--out") && std::filesystem::path(cmd.out) != cmd.checkpoints.resume)
+      throw UsageError(fmt::format("--out {}: a resumed run writes into its own folder, --resume {}",
+                                   cmd.out, cmd.checkpoints.resume));
+    cmd.out = cmd.checkpoints.resume;
+  }
   validate(cmd);
   RunParams& p = cmd.params;
   const std::filesystem::path dir(cmd.out);
   const auto world = Decomposition::world();
+  std::shared_ptr<const Checkpoint> resume;
+  if (resuming) {
+    if (!std::filesystem::exists(dir / kCheckpointFileName))
+      throw UsageError(fmt::format(
+          "--resume {}: no {} there ({})", dir.string(), kCheckpointFileName,
+          std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
+                                                         "--checkpoint-every 0 and killed"
+                                                       : "not a run folder"));
+    nlohmann::json saved;
+    resume = load_checkpoint(dir, &saved, world);
+    p = resumed_params(app, p, saved, dir / kCheckpointFileName);
+  } else if (world->rank() == 0) {
+    clear_run_outputs(dir);  // an earlier run's report must not sit beside this one's files
+    std::filesystem::remove(dir / kCheckpointFileName);
+  }
+  if (world->rank() == 0) ensure_directory(dir);
   Progress progress(cmd.quiet);
   RunContext context([&](const StepRecord& s) { progress.step(s); });
+  context.resume = resume;
+  SignalGuard signals;
+  CheckpointSink sink(dir, p, cmd.checkpoints.every, world);
+  sink.attach(context);
   if (world->distributed()) {
     check_decomposable(p, *world);
     context.decomposition = world;
@@ -122,7 +160,18 @@ int run(RunCommand& cmd) {
         world->distributed() ? fmt::format(" x {} ranks ({} x {} x {})", world->ranks(),
                                            world->dims()[0], world->dims()[1], world->dims()[2])
                              : std::string());
-  const RunResult r = run_cmc(p, context);
+  if (resume && !cmd.quiet)
+    std::cerr << fmt::format("resuming {} before step {} ({} on {}^3, {:.1f} s done)\n",
+                             dir.string(), resume->step + 1, resume->cursor.stage,
+                             resume->cursor.grid, resume->elapsed);
+  RunResult r;
+  try {
+    r = run_cmc(p, context);
+  } catch (RunInterrupted& stop) {
+    progress.finish();
+    return finish_interrupted(dir, p, stop, sink, threads, resume_command(dir, *world),
+                              cmd.quiet);
+  }
   progress.finish();
 
   // Rank 0 gathers the field and measures and writes everything, as a serial run would.
@@ -138,6 +187,9 @@ int run(RunCommand& cmd) {
   std::optional<RunPreview> preview;  // docs/report.md
   if (!cmd.pages.no_preview) preview = make_run_preview(field, p, r, quality);
   nlohmann::json extra = decomposition_json(*world);  // io/run_folder.h
+  extra["checkpoints_written"] = sink.written();
+  extra["checkpoint_seconds"] = sink.seconds();
+  if (resume) extra["resumed_from_step"] = resume->step;
   if (preview) extra["preview_seconds"] = preview->seconds;
   const nlohmann::json report = write_run_folder(
       dir, p, r, field, quality, threads, cmd.float32, extra, [&] {
@@ -145,8 +197,13 @@ int run(RunCommand& cmd) {
         if (preview) write_png(dir / "preview.png", preview->image);
       });
   if (!cmd.pages.no_report) write_run_page(dir);
+  std::filesystem::remove(dir / kCheckpointFileName);  // the run is complete
   if (!cmd.quiet) print_summary(p, r, quality, report, dir);
   print_warnings(p, r);
+  if (SignalGuard::received()) {  // after the last step: the outputs were finished first
+    std::cerr << "note: a signal arrived after the solve; the run folder is complete\n";
+    return SignalGuard::exit_code();
+  }
   return 0;
 }
 
@@ -166,7 +223,8 @@ CommandFn add_run_command(CLI::App& root) {
                   "unit-cell coordinates, with surface.FORMAT.json");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
-  return {app, [cmd]() -> int { return run(*cmd); }};
+  add_checkpoint_options(*app, cmd->checkpoints, true);
+  return {app, [cmd, app]() -> int { return run(*cmd, *app); }};
 }
 
 }  // namespace cmcsurf::cli

@@ -1,0 +1,86 @@
+// Long runs survive interruption (docs/reliability.md): SIGINT/SIGTERM stop a run between two
+// time steps with a checkpoint, periodic checkpoints bound the work a crash loses, and
+// --resume continues either to the same bits.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "io/checkpoint.h"
+#include "parallel/decomposition.h"
+#include "pipeline/cmc.h"
+
+namespace cmcsurf::cli {
+
+// Installs the SIGINT/SIGTERM handlers for its lifetime: the first signal asks the run to stop
+// after its current step; a second one exits at once with 128 + signal.
+class SignalGuard {
+ public:
+  SignalGuard();
+  ~SignalGuard();
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+  // The signal received (0: none yet).
+  static int received();
+  // 130 for SIGINT, 143 for SIGTERM.
+  static int exit_code() { return 128 + received(); }
+};
+
+// The default of --checkpoint-every: runs shorter than this write none (a signal still does).
+constexpr double kDefaultCheckpointEvery = 120.0;
+
+struct CheckpointOptions {
+  double every = kDefaultCheckpointEvery;  // seconds; 0: no periodic checkpoints
+  std::string resume;                      // run --resume DIR
+};
+void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with_resume);
+
+// The RunContext hooks of a run writing into dir: control() asks for a checkpoint every
+// `every` seconds and stops on a signal (one decision for all processes under MPI), and
+// checkpoint() writes dir/checkpoint.bin (rank 0, the fields gathered). A failed write is a
+// warning: the run goes on.
+class CheckpointSink {
+ public:
+  CheckpointSink(std::filesystem::path dir, const RunParams& params, double every,
+                 std::shared_ptr<const Decomposition> world);
+  void attach(RunContext& context);
+  // Writes dir/checkpoint.bin now (the interrupted run's state); throws on failure.
+  void write(const Checkpoint& c);
+  int written() const { return written_; }
+  double seconds() const { return seconds_; }  // spent writing checkpoints
+
+ private:
+  std::filesystem::path dir_;
+  nlohmann::json params_;
+  double every_;
+  std::shared_ptr<const Decomposition> world_;
+  double last_ = 0.0;  // steady-clock seconds of the start or the last checkpoint
+  int written_ = 0;
+  double seconds_ = 0.0;
+  bool warned_ = false;
+};
+
+// What an interrupted run leaves (rank 0 writes; every process measures): checkpoint.bin,
+// history.csv and a report.json marked "stop_reason": "interrupted" with the measures of the
+// field so far and how to resume. Prints the resume command; returns the exit code.
+int finish_interrupted(const std::filesystem::path& dir, const RunParams& params,
+                       RunInterrupted& stop, CheckpointSink& sink, int threads,
+                       const std::string& resume_command, bool quiet,
+                       const nlohmann::json& extra = {});
+
+// dir/checkpoint.bin for `run --resume dir` or a sweep member: read (the fields cut to this
+// process's blocks under a decomposition). Any problem is a UsageError naming the file.
+std::shared_ptr<const Checkpoint> load_checkpoint(const std::filesystem::path& dir,
+                                                  nlohmann::json* params,
+                                                  const std::shared_ptr<const Decomposition>& world);
+
+// --resume: the options given on the command line (app's, with a count) must agree with the
+// parameters the run started with (`saved`, params_json); returns the parameters to use.
+// `given` is the command line's own result (defaults where not given).
+RunParams resumed_params(const CLI::App& app, const RunParams& given, const nlohmann::json& saved,
+                         const std::filesystem::path& file);
+
+}  // namespace cmcsurf::cli
