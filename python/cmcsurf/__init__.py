@@ -1,0 +1,296 @@
+"""Triply periodic constant-mean-curvature surfaces with NumPy arrays in and out.
+
+The same C++ core as the ``cmcsurf`` command line: ``run`` is ``cmcsurf run``, ``sweep`` is
+``cmcsurf sweep``, ``mesh`` is ``cmcsurf mesh``; ``relax`` and ``measure`` take your own field.
+Every ``run`` option is a keyword argument with the command line's default, and bad values
+raise ``ValueError`` (or ``TypeError`` for a wrong type) with the command line's message.
+
+Fields are float64 NumPy arrays of shape (N, N, N) indexed ``phi[i, j, k]`` = the cell centred
+at (x, y, z) = ((i + 1/2) / N, (j + 1/2) / N, (k + 1/2) / N) of the unit cell, i.e.
+``numpy.meshgrid(x, y, z, indexing="ij")`` order; phase 1 is phi > 1/2. Arrays given to
+``relax``, ``measure`` and ``mesh`` may be any real dtype and any strides: they are converted
+once to float64 (a copy; your array is never changed) and refused when not cubic, when N is not
+m 2^k (m in {1, 3, 5, 7}, N >= 8, the multigrid's grids) or when they hold NaN or infinity.
+
+Solves release the GIL (other Python threads keep running), Ctrl-C stops a solve within one
+time step with ``KeyboardInterrupt``, and ``progress`` is called with a dict per time step
+(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed``).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _cmcsurf
+from ._cmcsurf import Mesh, Result, SolverDiverged
+
+__all__ = [
+    "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "relax", "run",
+    "surfaces", "sweep", "__version__",
+]
+
+__version__: str = _cmcsurf.version()
+
+Progress = Optional[Callable[[Dict[str, Any]], Any]]
+
+# The solver options shared by run, relax and sweep, as keyword arguments. None: not given,
+# which for mg_rtol, coarse_levels, dt_max_factor and extrapolate lets fast=True choose.
+_SOLVER_OPTIONS = (
+    "epsilon", "dt_factor", "stop", "tol", "max_steps", "smoother", "constrain", "volume_tol",
+    "mg_tol", "fast", "mg_rtol", "coarse_levels", "extrapolate", "dt_max_factor",
+    "max_vcycles", "pre_sweeps", "post_sweeps", "prerelax_steps", "prerelax_epsilon_factor",
+    "bisection_tol", "bisection_max_it", "max_volume_corrections",
+)
+
+
+def _options(values: Dict[str, Any], names: Sequence[str]) -> Dict[str, Any]:
+    return {name: values[name] for name in names}
+
+
+def surfaces() -> List[Dict[str, Any]]:
+    """The built-in surfaces, as ``cmcsurf surfaces`` lists them.
+
+    Each is a dict with ``name`` (what ``surface=`` takes), ``nodal`` (a trigonometric nodal
+    approximation, relaxed by steps 1-6 of the paper's Section 4.4), ``balanced`` (both phases
+    congruent; None for non-nodal ones) and ``description``. A user formula
+    ``"expr:<muParser formula in x, y, z in [0, 2 pi)>"`` is accepted as well.
+    """
+    return _cmcsurf.surfaces()
+
+
+def run(
+    surface: str = "G",
+    volume_fraction: float = 0.5,
+    grid: int = 64,
+    epsilon: float = 0.01,
+    *,
+    dt_factor: float = 0.5,
+    stop: str = "area",
+    tol: float = 1e-6,
+    max_steps: int = 20000,
+    smoother: str = "redblack",
+    constrain: str = "volume",
+    volume_tol: float = 1e-4,
+    radius: float = 0.25,
+    seed: int = 1,
+    fast: bool = False,
+    mg_tol: float = 1e-9,
+    mg_rtol: Optional[float] = None,
+    coarse_levels: Optional[int] = None,
+    extrapolate: Optional[bool] = None,
+    dt_max_factor: Optional[float] = None,
+    max_vcycles: int = 100,
+    pre_sweeps: int = 2,
+    post_sweeps: int = 2,
+    prerelax_steps: int = 5,
+    prerelax_epsilon_factor: float = 5.0,
+    bisection_tol: float = 1e-6,
+    bisection_max_it: int = 60,
+    max_volume_corrections: int = 8,
+    threads: int = 0,
+    progress: Progress = None,
+) -> Result:
+    """One CMC surface, exactly as ``cmcsurf run`` computes it (same defaults, same report).
+
+    Nodal surfaces (P, D, G, ..., ``expr:``) go through Section 4.4's steps 1-6 at
+    ``volume_fraction`` and, with ``constrain="volume"``, the mass corrections that hold the
+    sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
+    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, coarse_levels, extrapolate and
+    dt_max_factor where they are None). ``threads``: OpenMP threads for this call (0:
+    OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time step.
+
+    Returns a :class:`Result`: ``.phi`` (N, N, N) float64 (read-only), ``.report`` (the dict of
+    report.json), ``.history`` (a dict of NumPy columns, history.csv's), ``.save(dir)``.
+    Raises ValueError / TypeError on bad arguments, SolverDiverged if the run diverges,
+    KeyboardInterrupt on Ctrl-C.
+    """
+    names = ("surface", "volume_fraction", "grid", "radius", "seed") + _SOLVER_OPTIONS
+    return _cmcsurf.run(_options(locals(), names), threads, progress)
+
+
+def relax(
+    phi: Any,
+    volume_fraction: Optional[float] = None,
+    epsilon: float = 0.01,
+    *,
+    algorithm: str = "cmc",
+    dt_factor: float = 0.5,
+    stop: str = "area",
+    tol: float = 1e-6,
+    max_steps: int = 20000,
+    smoother: str = "redblack",
+    constrain: str = "volume",
+    volume_tol: float = 1e-4,
+    fast: bool = False,
+    mg_tol: float = 1e-9,
+    mg_rtol: Optional[float] = None,
+    coarse_levels: Optional[int] = None,
+    extrapolate: Optional[bool] = None,
+    dt_max_factor: Optional[float] = None,
+    max_vcycles: int = 100,
+    pre_sweeps: int = 2,
+    post_sweeps: int = 2,
+    prerelax_steps: int = 5,
+    prerelax_epsilon_factor: float = 5.0,
+    bisection_tol: float = 1e-6,
+    bisection_max_it: int = 60,
+    max_volume_corrections: int = 8,
+    surface: Optional[str] = None,
+    threads: int = 0,
+    progress: Progress = None,
+) -> Result:
+    """Relax your own field ``phi`` (an (N, N, N) array, e.g. a segmented tomography volume with
+    0/1 phases or a simulation snapshot) to the CMC surface of its phase 1 = {phi > 1/2}.
+
+    ``algorithm="cmc"`` (default): the paper's Section 4.4 from phi instead of a nodal formula,
+    exactly as ``run`` does it (truncation to [0, 1], ``prerelax_steps`` steps at
+    ``prerelax_epsilon_factor`` epsilon, the threshold whose mean is ``volume_fraction``, the
+    shift to that mean, the relaxation at ``epsilon`` and, with ``constrain="volume"``, the mass
+    corrections until the sharp volume fraction of phi > 1/2 is ``volume_fraction``).
+    ``volume_fraction=None`` takes phi's own (the sharp volume fraction of phi > 1/2).
+    ``relax(initial_field("G", N), 0.5)`` is ``run("G", 0.5, N)`` bit for bit.
+
+    ``algorithm="direct"``: the Cahn-Hilliard relaxation at ``epsilon`` from phi as it is until
+    the stop rule; the mass (mean of phi) is conserved, ``volume_fraction`` must be None. This
+    is how ``run`` relaxes sphere, cube and noise: ``relax(initial_field("sphere", N),
+    algorithm="direct")`` is ``run("sphere", grid=N)``.
+
+    ``surface`` labels the report (default ``"field"``); a nodal name (e.g. "G") also adds the
+    comparison with that nodal surface to the quality keys. ``coarse_levels`` must be 0 or None:
+    there is no coarser version of a given field. Other options as in :func:`run`.
+    """
+    names = ("surface",) + _SOLVER_OPTIONS
+    return _cmcsurf.relax(phi, volume_fraction, algorithm, _options(locals(), names), threads,
+                          progress)
+
+
+def initial_field(
+    surface: str = "G",
+    grid: int = 64,
+    epsilon: float = 0.01,
+    *,
+    radius: float = 0.25,
+    seed: int = 1,
+) -> np.ndarray:
+    """Step 1's field phi^0 of ``surface`` on the N^3 grid (the nodal formula of Eqs. 7-9 for
+    nodal surfaces, the tanh-profile ball of ``radius`` for sphere, ...), read-only float64,
+    indexed [i, j, k] as everywhere in this package."""
+    return _cmcsurf.initial_field(
+        {"surface": surface, "grid": grid, "epsilon": epsilon, "radius": radius, "seed": seed})
+
+
+def measure(
+    phi: Any, epsilon: float = 0.01, *, surface: Optional[str] = None, threads: int = 0
+) -> Dict[str, Any]:
+    """The measures of any field, with report.json's keys and estimators: ``area``,
+    ``mean_curvature`` (sharp, of the phi = 1/2 surface, with ``area_error`` and
+    ``mean_curvature_error``), ``volume_fraction``, ``mass``, ``energy``, the diffuse-layer
+    ones (``area_diffuse``, ...) and the CMC-quality keys (``mean_curvature_std``, ...).
+    ``epsilon`` is the interface parameter of the diffuse and energy measures. With a nodal
+    ``surface`` the ``nodal_*`` keys compare with that nodal surface at phi's volume fraction
+    (None otherwise)."""
+    return _cmcsurf.measure(phi, float(epsilon), surface, threads)
+
+
+def sweep(
+    surfaces: Union[str, Sequence[str]] = ("P", "D", "G"),
+    volume_fractions: Union[str, Sequence[float]] = "0.25:0.75:0.05",
+    grid: int = 64,
+    epsilon: float = 0.01,
+    *,
+    continuation: bool = False,
+    dt_factor: float = 0.5,
+    stop: str = "area",
+    tol: float = 1e-6,
+    max_steps: int = 20000,
+    smoother: str = "redblack",
+    constrain: str = "volume",
+    volume_tol: float = 1e-4,
+    fast: bool = False,
+    mg_tol: float = 1e-9,
+    mg_rtol: Optional[float] = None,
+    coarse_levels: Optional[int] = None,
+    extrapolate: Optional[bool] = None,
+    dt_max_factor: Optional[float] = None,
+    max_vcycles: int = 100,
+    pre_sweeps: int = 2,
+    post_sweeps: int = 2,
+    prerelax_steps: int = 5,
+    prerelax_epsilon_factor: float = 5.0,
+    bisection_tol: float = 1e-6,
+    bisection_max_it: int = 60,
+    max_volume_corrections: int = 8,
+    threads: int = 0,
+    progress: Progress = None,
+) -> Tuple[List[Result], Dict[str, np.ndarray]]:
+    """Families of CMC surfaces over volume fraction (Fig. 11), as ``cmcsurf sweep``.
+
+    ``surfaces``: nodal surfaces, a sequence or the command line's "P,D,G".
+    ``volume_fractions``: a sequence, or "start:stop:step" (stop included) / "a,b,c".
+    ``continuation``: start each member from the previous member's field.
+
+    Returns ``(results, table)``: one :class:`Result` per member (surfaces outermost; each
+    ``.report`` is the member's report.json, with ``member`` and ``started_from``), and the
+    table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
+    arrays for strings and booleans).
+    """
+    names = ("grid",) + _SOLVER_OPTIONS
+    if not isinstance(surfaces, str):
+        surfaces = ",".join(str(s) for s in surfaces)
+    if not isinstance(volume_fractions, str):
+        volume_fractions = ",".join(repr(float(a)) for a in volume_fractions)
+    results, columns = _cmcsurf.sweep(surfaces, volume_fractions, bool(continuation),
+                                      _options(locals(), names), threads, progress)
+    table: Dict[str, np.ndarray] = {}
+    for key in columns:
+        values = [r.report.get(key) for r in results]
+        numeric = all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool))
+                      for v in values)
+        table[key] = (np.array([np.nan if v is None else v for v in values], dtype=float)
+                      if numeric else np.array(values, dtype=object))
+    return results, table
+
+
+def mesh(
+    source: Union[Result, Any],
+    tile: Union[int, Tuple[int, int, int]] = (1, 1, 1),
+    solid: str = "surface",
+    thickness: Optional[float] = None,
+    cell_size: float = 1.0,
+    units: str = "mm",
+    *,
+    other_phase: bool = False,
+    threads: int = 0,
+) -> Mesh:
+    """A watertight scaffold mesh of a :class:`Result` or an (N, N, N) field, as
+    ``cmcsurf mesh``: ``solid`` "surface" (the phi = 1/2 interface), "network" (the region
+    phi > 1/2, capped at the box; ``other_phase`` for phi < 1/2) or "sheet" (a wall of
+    ``thickness`` output units around the interface), ``tile`` unit cells along x, y, z, each
+    ``cell_size`` ``units`` wide.
+
+    Returns a :class:`Mesh`: ``.vertices`` (n, 3) float64 (x, y, z along the field's axes i, j,
+    k), ``.faces`` (m, 3) int64 (counter-clockwise seen from outside), ``.report`` (the dict of
+    FILE.json: counts, area, volume, Euler characteristic, checks) and ``.save(path)`` for
+    .stl/.ply/.obj/.3mf (format from the extension unless ``format=`` is given).
+    """
+    if isinstance(tile, (int, np.integer)) and not isinstance(tile, bool):
+        tile_spec = str(int(tile))
+    else:
+        try:
+            parts = [int(t) for t in tile] if all(
+                isinstance(t, (int, np.integer)) and not isinstance(t, bool) for t in tile) else None
+        except TypeError:
+            parts = None
+        if parts is None or len(parts) != 3:
+            raise TypeError(f"tile: got {tile!r}; accepted: an int A or three ints (A, B, C)")
+        tile_spec = "x".join(str(t) for t in parts)
+    return _cmcsurf.mesh(source, tile_spec, float(cell_size), units, solid, bool(other_phase),
+                         0.0 if thickness is None else float(thickness), threads)
+
+
+def default_options() -> Dict[str, Any]:
+    """The command line's defaults of every run option (report.json's ``parameters``)."""
+    return _cmcsurf.default_options()
+

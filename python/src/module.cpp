@@ -1,0 +1,641 @@
+// cmcsurf._cmcsurf: the Python binding of the library (python/cmcsurf/__init__.py is its
+// Pythonic face). It converts arguments, calls the functions the command line calls and
+// converts the results back; it computes nothing itself (docs/python.md).
+//
+// Index order: a field crosses the boundary as a C-contiguous float64 (N, N, N) array indexed
+// [i, j, k] = cell (x_i, y_j, z_k), x_i = (i + 1/2) / N (NumPy's meshgrid(..., indexing="ij")),
+// so phi[i, j, k] is Field(i, j, k), and mesh coordinates (x, y, z) follow the same axes.
+#include <omp.h>
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cahn_hilliard/time_step.h"
+#include "io/mesh_output.h"
+#include "io/run_folder.h"
+#include "io/run_report.h"
+#include "measure/sharp_volume.h"
+#include "mesh/scaffold.h"
+#include "multigrid/fas.h"
+#include "pipeline/cmc.h"
+#include "pipeline/run_options.h"
+#include "pipeline/sweep.h"
+#include "surfaces/initial.h"
+
+namespace py = pybind11;
+
+namespace cmcsurf::python {
+
+namespace {
+
+constexpr int kMaxGrid = 2048;  // as --grid
+constexpr int kMaxThreads = 4096;  // as --threads
+
+// ---- JSON <-> Python -------------------------------------------------------------------
+
+py::object to_python(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// ---- fields <-> arrays -----------------------------------------------------------------
+
+// A copy of the interior as a read-only C-contiguous (N, N, N) float64 array indexed [i, j, k].
+py::array_t<double> field_to_array(const Field& f) {
+  const int n = f.n();
+  py::array_t<double> out({n, n, n});
+  double* a = out.mutable_data();
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) a[(std::size_t(i) * n + j) * n + k] = f(i, j, k);
+  out.attr("setflags")(py::arg("write") = false);
+  return out;
+}
+
+// Any real array-like (float16/32/64, integer, unsigned; any strides) as a whole-grid Field
+// with ghost 2, converted once to float64. Refuses other dtypes (TypeError), non-cubic shapes,
+// N the multigrid cannot coarsen and non-finite values (ValueError), naming `name`.
+Field array_to_field(py::handle obj, const char* name) {
+  py::object np = py::module_::import("numpy");
+  py::array in = py::isinstance<py::array>(obj) ? py::reinterpret_borrow<py::array>(obj)
+                                                : py::array(np.attr("asarray")(obj));
+  const char kind = in.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(fmt::format(
+        "{}: got an array of dtype {}; accepted: real numbers (float or integer dtypes, "
+        "converted to float64)",
+        name, std::string(py::str(in.dtype()))));
+  if (in.ndim() != 3 || in.shape(0) != in.shape(1) || in.shape(0) != in.shape(2)) {
+    std::string shape = "(";
+    for (py::ssize_t d = 0; d < in.ndim(); ++d)
+      shape += fmt::format("{}{}", d ? ", " : "", in.shape(d));
+    shape += in.ndim() == 1 ? ",)" : ")";
+    throw py::value_error(fmt::format(
+        "{}: got shape {}; accepted: a cubic (N, N, N) array, N = m 2^k with m in "
+        "{{1,3,5,7}}, 8 <= N <= {}",
+        name, shape, kMaxGrid));
+  }
+  const py::ssize_t n64 = in.shape(0);
+  if (n64 > kMaxGrid)
+    throw py::value_error(
+        fmt::format("{}: got N = {}; accepted: N <= {}", name, n64, kMaxGrid));
+  const int n = int(n64);
+  if (const std::string why = check_coarsenable(n); !why.empty())
+    throw py::value_error(fmt::format("{}: shape ({}, {}, {}): {}", name, n, n, n, why));
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
+  if (!a) throw py::error_already_set();
+  const double* v = a.data();
+  Field f(n, 2);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double x = v[(std::size_t(i) * n + j) * n + k];
+        if (!std::isfinite(x))
+          throw py::value_error(fmt::format(
+              "{}: {} at [{}, {}, {}]; accepted: finite values", name, x, i, j, k));
+        f(i, j, k) = x;
+      }
+  f.exchange_halo();
+  return f;
+}
+
+// ---- options ---------------------------------------------------------------------------
+
+template <class T>
+T cast_option(py::handle v, const char* key, const char* type) {
+  try {
+    return py::cast<T>(v);
+  } catch (const py::cast_error&) {
+    throw py::type_error(fmt::format("{}: got {} of type {}; accepted: {}", key,
+                                     std::string(py::repr(v)),
+                                     std::string(py::str(py::type::of(v).attr("__name__"))),
+                                     type));
+  }
+}
+
+// The keyword arguments of run() (the command line's options with '_' for '-'): None means
+// "not given". Unknown keys are a TypeError, as in any Python call.
+void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
+  for (auto [key_obj, v] : options) {
+    const std::string key = py::cast<std::string>(key_obj);
+    if (v.is_none()) continue;
+    auto d = [&](double& x) { x = cast_option<double>(v, key.c_str(), "a real number"); };
+    auto i = [&](int& x) { x = cast_option<int>(v, key.c_str(), "an integer"); };
+    auto s = [&](std::string& x) { x = cast_option<std::string>(v, key.c_str(), "a string"); };
+    auto b = [&](bool& x) {
+      if (!py::isinstance<py::bool_>(v) &&
+          std::string(py::str(py::type::of(v).attr("__name__"))) != "bool_")
+        throw py::type_error(fmt::format("{}: got {}; accepted: True or False", key,
+                                         std::string(py::repr(v))));
+      x = py::cast<bool>(v);
+    };
+    if (key == "surface") s(p.surface);
+    else if (key == "volume_fraction") d(p.volume_fraction);
+    else if (key == "grid") i(p.grid);
+    else if (key == "epsilon") d(p.epsilon);
+    else if (key == "dt_factor") d(p.dt_factor);
+    else if (key == "stop") s(c.stop);
+    else if (key == "tol") d(p.tol);
+    else if (key == "max_steps") i(p.max_steps);
+    else if (key == "smoother") s(c.smoother);
+    else if (key == "constrain") s(c.constrain);
+    else if (key == "volume_tol") d(p.volume_tol);
+    else if (key == "radius") d(p.radius);
+    else if (key == "seed") {
+      const long long seed = cast_option<long long>(v, "seed", "an integer >= 0");
+      if (seed < 0) throw py::value_error(fmt::format("--seed: got {}; accepted: >= 0", seed));
+      p.seed = std::uint64_t(seed);
+    }
+    else if (key == "mg_tol") d(p.solver.tol);
+    else if (key == "fast") b(c.fast);
+    else if (key == "mg_rtol") { d(p.solver.rtol); c.mg_rtol_given = true; }
+    else if (key == "coarse_levels") { i(p.coarse_levels); c.coarse_levels_given = true; }
+    else if (key == "extrapolate") { b(p.solver.extrapolate); c.extrapolate_given = true; }
+    else if (key == "dt_max_factor") { d(p.dt_max_factor); c.dt_max_factor_given = true; }
+    else if (key == "max_vcycles") i(p.solver.max_vcycles);
+    else if (key == "pre_sweeps") i(p.solver.fas.pre_sweeps);
+    else if (key == "post_sweeps") i(p.solver.fas.post_sweeps);
+    else if (key == "prerelax_steps") i(p.prerelax_steps);
+    else if (key == "prerelax_epsilon_factor") d(p.prerelax_epsilon_factor);
+    else if (key == "bisection_tol") d(p.bisection_tol);
+    else if (key == "bisection_max_it") i(p.bisection_max_it);
+    else if (key == "max_volume_corrections") i(p.max_volume_corrections);
+    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+  }
+}
+
+RunParams run_params(const py::dict& options, bool check_surface) {
+  RunParams p;
+  RunChoices c;
+  apply_options(p, c, options);
+  finish_run_params(p, c, check_surface);  // OptionError -> ValueError
+  return p;
+}
+
+// OpenMP threads for one call (0: keep OMP_NUM_THREADS or all cores), restored afterwards so
+// that a later call with threads=0 gets the default again. The solve runs on this thread.
+class ThreadScope {
+ public:
+  explicit ThreadScope(int threads) : before_(omp_get_max_threads()) {
+    if (threads < 0 || threads > kMaxThreads)
+      throw py::value_error(fmt::format(
+          "--threads: got {}; accepted: 0 <= T <= {} (0: OMP_NUM_THREADS or all cores)",
+          threads, kMaxThreads));
+    if (threads > 0) omp_set_num_threads(threads);
+  }
+  ~ThreadScope() { omp_set_num_threads(before_); }
+  int count() const { return omp_get_max_threads(); }
+
+ private:
+  int before_;
+};
+
+// ---- the solve with the GIL released ----------------------------------------------------
+
+// A Python exception (KeyboardInterrupt from Ctrl-C, or one raised by `progress`) waits in
+// Interaction::pending while the run unwinds.
+struct PythonPending : std::exception {};
+
+py::dict step_dict(const StepRecord& r) {
+  py::dict d;
+  d["step"] = r.step;
+  d["stage"] = r.stage;
+  d["time"] = r.time;
+  d["dt"] = r.dt;
+  d["area"] = r.area;
+  d["d_area"] = r.d_area;
+  d["d_phi"] = r.d_phi;
+  d["energy"] = r.energy;
+  d["mass"] = r.mass;
+  d["vcycles"] = r.vcycles;
+  d["residual"] = r.residual;
+  d["elapsed"] = r.elapsed;
+  return d;
+}
+
+// The run's context: `progress` (with the GIL) after every step, and a signal check before
+// every step (RunContext::control) and after it, so Ctrl-C stops the run within a step.
+class Interaction {
+ public:
+  explicit Interaction(py::object progress) : progress_(std::move(progress)) {}
+
+  RunContext context() {
+    RunContext c;
+    c.progress = [this](const StepRecord& r) {
+      py::gil_scoped_acquire gil;
+      if (!progress_.is_none()) {
+        try {
+          progress_(step_dict(r));
+        } catch (py::error_already_set& e) {
+          pending_ = e;
+          throw PythonPending{};
+        }
+      }
+      if (poll()) throw PythonPending{};
+    };
+    c.control = [this]() {
+      py::gil_scoped_acquire gil;
+      return poll() ? RunControl::kStop : RunControl::kContinue;
+    };
+    return c;
+  }
+
+  // Runs body(context) without the GIL; re-raises what stopped it.
+  template <class F>
+  auto solve(F&& body) {
+    using R = decltype(body(std::declval<const RunContext&>()));
+    std::optional<R> out;
+    const RunContext c = context();
+    try {
+      py::gil_scoped_release release;
+      out.emplace(body(c));
+    } catch (const PythonPending&) {
+    } catch (const RunInterrupted&) {
+    }
+    if (pending_) throw *pending_;
+    if (!out) {  // stopped without a Python error: report it as the interruption it was
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
+      throw py::error_already_set();
+    }
+    return std::move(*out);
+  }
+
+ private:
+  // With the GIL: runs the Python signal handlers (main thread only); true when one raised.
+  bool poll() {
+    if (pending_) return true;
+    if (PyErr_CheckSignals() != 0) {
+      pending_ = py::error_already_set();
+      return true;
+    }
+    return false;
+  }
+
+  py::object progress_;
+  std::optional<py::error_already_set> pending_;
+};
+
+// ---- results ---------------------------------------------------------------------------
+
+// A run's configuration, result and quality stage, immutable once made; report() is the
+// report.json of the same run from the command line.
+struct Result {
+  RunParams params;
+  RunResult result;
+  CmcQuality quality;
+  int threads = 1;
+  nlohmann::json extra;  // keys the command line adds (process layout, sweep member)
+  nlohmann::json report;
+  py::object phi_cache, report_cache, history_cache;
+
+  Result(const RunParams& p, RunResult r, int t, nlohmann::json x)
+      : params(p), result(std::move(r)), threads(t), extra(std::move(x)) {}
+
+  // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
+  // the solve.
+  void finish() {
+    quality = measure_cmc_quality(result.phi, params);
+    report = run_folder_report(params, result, quality, threads, extra);
+  }
+
+  py::object phi() {
+    if (!phi_cache) phi_cache = field_to_array(result.phi);
+    return phi_cache;
+  }
+  py::object report_dict() {
+    if (!report_cache) report_cache = to_python(report);
+    return report_cache;
+  }
+  py::object history() {
+    if (history_cache) return history_cache;
+    const auto& h = result.history;
+    const std::size_t n = h.size();
+    py::array_t<long long> step(n), vcycles(n);
+    py::array_t<double> time(n), dt(n), area(n), d_area(n), d_phi(n), energy(n), mass(n),
+        residual(n), elapsed(n);
+    py::list stage;
+    for (std::size_t s = 0; s < n; ++s) {
+      step.mutable_at(s) = h[s].step;
+      vcycles.mutable_at(s) = h[s].vcycles;
+      time.mutable_at(s) = h[s].time;
+      dt.mutable_at(s) = h[s].dt;
+      area.mutable_at(s) = h[s].area;
+      d_area.mutable_at(s) = h[s].d_area;
+      d_phi.mutable_at(s) = h[s].d_phi;
+      energy.mutable_at(s) = h[s].energy;
+      mass.mutable_at(s) = h[s].mass;
+      residual.mutable_at(s) = h[s].residual;
+      elapsed.mutable_at(s) = h[s].elapsed;
+      stage.append(h[s].stage);
+    }
+    py::dict d;
+    d["step"] = step;
+    d["stage"] = py::module_::import("numpy").attr("array")(stage, py::arg("dtype") = "str");
+    d["time"] = time;
+    d["area"] = area;
+    d["d_area"] = d_area;
+    d["d_phi"] = d_phi;
+    d["energy"] = energy;
+    d["mass"] = mass;
+    d["vcycles"] = vcycles;
+    d["residual"] = residual;
+    d["elapsed"] = elapsed;
+    d["dt"] = dt;
+    history_cache = d;
+    return d;
+  }
+  // The run folder exactly as `cmcsurf run` writes it (write_run_folder).
+  py::object save(const std::filesystem::path& dir, bool float32) {
+    {
+      py::gil_scoped_release release;
+      write_run_folder(dir, params, result, result.phi, quality, threads, float32, extra);
+    }
+    return py::module_::import("pathlib").attr("Path")(dir.string());
+  }
+};
+
+struct Mesh {
+  TriMesh mesh;
+  nlohmann::json report;
+  ScaffoldParams params;
+  py::object vertices_cache, faces_cache, report_cache;
+
+  py::object vertices() {
+    if (vertices_cache) return vertices_cache;
+    const std::size_t n = mesh.vertices.size();
+    py::array_t<double> v({n, std::size_t(3)});
+    double* a = v.mutable_data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) a[3 * i + c] = mesh.vertices[i][c];
+    v.attr("setflags")(py::arg("write") = false);
+    return vertices_cache = v;
+  }
+  py::object faces() {
+    if (faces_cache) return faces_cache;
+    const std::size_t m = mesh.triangles.size();
+    py::array_t<std::int64_t> f({m, std::size_t(3)});
+    std::int64_t* a = f.mutable_data();
+    for (std::size_t i = 0; i < m; ++i)
+      for (int c = 0; c < 3; ++c) a[3 * i + c] = mesh.triangles[i][c];
+    f.attr("setflags")(py::arg("write") = false);
+    return faces_cache = f;
+  }
+  py::object report_dict() {
+    if (!report_cache) report_cache = to_python(report);
+    return report_cache;
+  }
+  // The mesh file and FILE.json, as `cmcsurf mesh --out path` writes them.
+  py::object save(const std::filesystem::path& path, const std::string& format) {
+    MeshPlan plan;
+    plan.params = params;
+    plan.out = path;
+    plan.format = mesh_output_format(format, path);
+    {
+      py::gil_scoped_release release;
+      write_mesh_with_report(mesh, report, plan, nlohmann::json::object());
+    }
+    return py::module_::import("pathlib").attr("Path")(path.string());
+  }
+};
+
+// ---- the functions ---------------------------------------------------------------------
+
+std::shared_ptr<Result> run(const py::dict& options, int threads, py::object progress) {
+  const RunParams p = run_params(options, true);
+  ThreadScope scope(threads);
+  Interaction ia(std::move(progress));
+  auto out = ia.solve([&](const RunContext& c) {
+    auto r = std::make_shared<Result>(p, run_cmc(p, c), scope.count(),
+                                      decomposition_json(*Decomposition::world()));
+    r->finish();
+    return r;
+  });
+  return out;
+}
+
+std::shared_ptr<Result> relax(py::handle phi, std::optional<double> volume_fraction,
+                              const std::string& algorithm, const py::dict& options,
+                              int threads, py::object progress) {
+  const Field start = array_to_field(phi, "phi");
+  py::dict o = options;
+  if (!o.contains("surface") || o["surface"].is_none()) o["surface"] = "field";
+  o["grid"] = start.n();
+  RunParams p = run_params(o, false);
+  if (o.contains("coarse_levels") && !o["coarse_levels"].is_none() && p.coarse_levels != 0)
+    throw py::value_error("--coarse-levels: relax() starts from the given field on its own "
+                          "grid; accepted: 0");
+  p.coarse_levels = 0;
+  nlohmann::json extra = decomposition_json(*Decomposition::world());
+  const bool cmc = algorithm == "cmc";
+  if (!cmc && algorithm != "direct")
+    throw py::value_error(
+        fmt::format("algorithm: got '{}'; accepted: cmc, direct", algorithm));
+  if (cmc) {
+    // The target: the given one, or the field's own sharp volume fraction of {phi > 1/2}.
+    const double alpha = volume_fraction ? *volume_fraction : sharp_volume_fraction(start);
+    if (!(alpha > 0.0 && alpha < 1.0))
+      throw py::value_error(
+          volume_fraction
+              ? fmt::format("--volume-fraction: got {}; accepted: 0 < A < 1", alpha)
+              : fmt::format("phi: its volume fraction of phi > 1/2 is {}, so there is no "
+                            "surface to relax; accepted: a field with both phases",
+                            alpha));
+    p.volume_fraction = alpha;
+    extra["volume_fraction_target"] = alpha;
+  } else if (volume_fraction) {
+    throw py::value_error("volume_fraction: algorithm='direct' keeps the field's own mass; "
+                          "accepted: None, or algorithm='cmc'");
+  }
+  ThreadScope scope(threads);
+  Interaction ia(std::move(progress));
+  return ia.solve([&](const RunContext& c) {
+    RunResult r = cmc ? run_cmc_from_field(start, p, c) : relax_field(start, p, c);
+    auto out = std::make_shared<Result>(p, std::move(r), scope.count(), extra);
+    out->finish();
+    return out;
+  });
+}
+
+py::array_t<double> initial_field(const py::dict& options) {
+  const RunParams p = run_params(options, true);
+  InitialFieldParams init;
+  init.surface = p.surface;
+  init.epsilon = p.epsilon;
+  init.radius = p.radius;
+  init.seed = p.seed;
+  init.noise_amplitude = p.noise_amplitude;
+  return field_to_array(make_initial_field(init, p.grid, 2));
+}
+
+py::object measure(py::handle phi, double epsilon, std::optional<std::string> surface,
+                   int threads) {
+  Field f = array_to_field(phi, "phi");
+  RunParams p;
+  p.grid = f.n();
+  p.epsilon = epsilon;
+  p.surface = surface.value_or("field");
+  if (!(epsilon > 0.0 && epsilon < 1.0))
+    throw py::value_error(fmt::format("--epsilon: got {}; accepted: 0 < E < 1", epsilon));
+  if (surface) {
+    try {
+      validate_surface(*surface);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(fmt::format("--surface: {}", e.what()));
+    }
+  }
+  ThreadScope scope(threads);
+  nlohmann::json j;
+  {
+    py::gil_scoped_release release;
+    const Measures m = measure_field(f, epsilon);
+    const CmcQuality q = measure_cmc_quality(f, p);
+    j = measures_json(m);
+    j.update(quality_json(q, m.area));
+    j["grid"] = p.grid;
+    j["epsilon"] = epsilon;
+  }
+  return to_python(j);
+}
+
+py::tuple sweep(const std::string& surfaces, const std::string& fractions, bool continuation,
+                const py::dict& options, int threads, py::object progress) {
+  SweepParams sp;
+  sp.run = run_params(options, false);
+  try {
+    sp.surfaces = parse_surface_list(surfaces);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(fmt::format("--surface: {}", e.what()));
+  }
+  try {
+    sp.fractions = parse_volume_fractions(fractions);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(fmt::format("--volume-fractions: {}", e.what()));
+  }
+  sp.continuation = continuation;
+  ThreadScope scope(threads);
+  Interaction ia(std::move(progress));
+  std::vector<std::shared_ptr<Result>> results;
+  std::vector<nlohmann::json> reports;
+  ia.solve([&](const RunContext& c) {
+    run_sweep(
+        sp, {},
+        [&](const SweepMember& m, RunResult& r) {
+          auto res = std::make_shared<Result>(
+              m.params, std::move(r), scope.count(),
+              nlohmann::json{{"volume_fraction_target", m.alpha},
+                             {"member", m.name},
+                             {"started_from", m.started_from}});
+          res->finish();
+          reports.push_back(res->report);
+          results.push_back(res);
+        },
+        c);
+    return 0;
+  });
+  // The columns of sweep.csv, in its order.
+  const std::string csv = sweep_csv(reports);
+  std::vector<std::string> columns;
+  std::string header = csv.substr(0, csv.find('\n'));
+  for (std::size_t pos = 0; pos <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', pos), header.size());
+    columns.push_back(header.substr(pos, comma - pos));
+    pos = comma + 1;
+  }
+  return py::make_tuple(results, columns);
+}
+
+std::shared_ptr<Mesh> mesh(py::handle source, const std::string& tile, double cell_size,
+                           const std::string& units, const std::string& solid, bool other_phase,
+                           double thickness, int threads) {
+  std::optional<Field> owned;
+  const Field* phi = nullptr;
+  if (py::isinstance<Result>(source)) {
+    phi = &py::cast<Result&>(source).result.phi;
+  } else {
+    owned = array_to_field(source, "phi");
+    phi = &*owned;
+  }
+  MeshOutputOptions o;
+  o.tile = tile;
+  o.cell_size = cell_size;
+  o.units = units;
+  o.solid = solid;
+  o.other_phase = other_phase;
+  o.thickness = thickness;
+  auto out = std::make_shared<Mesh>();
+  out->params = scaffold_params(o, phi->n());
+  ThreadScope scope(threads);
+  {
+    py::gil_scoped_release release;
+    Scaffold s = build_scaffold(*phi, out->params);
+    out->mesh = std::move(s.mesh);
+    out->report = std::move(s.report);
+  }
+  return out;
+}
+
+py::list surfaces() {
+  py::list out;
+  for (const SurfaceInfo& s : builtin_surfaces()) {
+    py::dict d;
+    d["name"] = s.name;
+    d["nodal"] = s.nodal;
+    d["balanced"] = s.nodal ? py::object(py::bool_(s.balanced)) : py::object(py::none());
+    d["description"] = s.description;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_cmcsurf, m) {
+  m.doc() = "The compiled core of cmcsurf; use the functions of the cmcsurf package.";
+  py::register_exception<SolverDiverged>(m, "SolverDiverged", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const OptionError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.def("version", [] { return std::string(CMCSURF_VERSION); });
+  m.def("surfaces", &surfaces);
+  m.def("default_options", [] { return to_python(params_json(RunParams{})); });
+  m.def("run", &run, py::arg("options"), py::arg("threads"), py::arg("progress"));
+  m.def("relax", &relax, py::arg("phi"), py::arg("volume_fraction"), py::arg("algorithm"),
+        py::arg("options"),
+        py::arg("threads"), py::arg("progress"));
+  m.def("initial_field", &initial_field, py::arg("options"));
+  m.def("measure", &measure, py::arg("phi"), py::arg("epsilon"), py::arg("surface"),
+        py::arg("threads"));
+  m.def("sweep", &sweep, py::arg("surfaces"), py::arg("fractions"), py::arg("continuation"),
+        py::arg("options"), py::arg("threads"), py::arg("progress"));
+  m.def("mesh", &mesh, py::arg("source"), py::arg("tile"), py::arg("cell_size"),
+        py::arg("units"), py::arg("solid"), py::arg("other_phase"), py::arg("thickness"),
+        py::arg("threads"));
+
+  py::class_<Result, std::shared_ptr<Result>>(m, "Result")
+      .def_property_readonly("phi", &Result::phi)
+      .def_property_readonly("report", &Result::report_dict)
+      .def_property_readonly("history", &Result::history)
+      .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false);
+  py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh")
+      .def_property_readonly("vertices", &Mesh::vertices)
+      .def_property_readonly("faces", &Mesh::faces)
+      .def_property_readonly("report", &Mesh::report_dict)
+      .def("save", &Mesh::save, py::arg("path"), py::arg("format") = "");
+}
+
+}  // namespace cmcsurf::python

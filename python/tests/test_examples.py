@@ -1,0 +1,34 @@
+"""The examples run at small grids."""
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+import cmcsurf
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
+
+
+def run_example(name, tmp_path, *args):
+    # The package under test, wherever it was imported from (the build tree under CTest).
+    package_root = str(pathlib.Path(cmcsurf.__file__).resolve().parents[1])
+    path = os.pathsep.join(p for p in (package_root, os.environ.get("PYTHONPATH")) if p)
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=path)
+    return subprocess.run([sys.executable, str(EXAMPLES / name), *args], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_fig11(tmp_path):
+    pytest.importorskip("matplotlib")
+    p = run_example("fig11.py", tmp_path, "--grid", "16", "--out", "fig11.png")
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "fig11.png").stat().st_size > 10000
+    assert p.stdout.count("area") >= 9  # 3 surfaces x 3 fractions
+
+
+def test_relax_noisy(tmp_path):
+    p = run_example("relax_noisy.py", tmp_path, "--grid", "16", "--out", "relaxed.stl")
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "relaxed.stl").exists() and "closed True" in p.stdout

@@ -1,0 +1,166 @@
+"""Arrays in and out: index order, conversion, relax() against run(), refused input."""
+import numpy as np
+import pytest
+
+import cmcsurf
+from conftest import comparable, run_cli
+
+N = 16
+
+
+@pytest.fixture(scope="module")
+def x_field():
+    """phi^0 of a formula of x alone: varies along axis 0 only."""
+    return cmcsurf.initial_field("expr:sin(x)", grid=N)
+
+
+def test_index_order_is_x_y_z(x_field):
+    phi = x_field
+    assert phi.shape == (N, N, N)
+    # Constant over j and k (y and z), varying along i (x).
+    assert np.all(phi == phi[:, :1, :1])
+    assert np.ptp(phi[:, 0, 0]) > 0.5
+    # sin peaks at x = pi / 2, i.e. cell i = N / 4 - 1/2, and is lowest at 3 N / 4 - 1/2.
+    i = np.arange(N)
+    assert abs(np.argmax(phi[:, 0, 0]) - (N / 4 - 0.5)) <= 0.5
+    assert abs(np.argmin(phi[:, 0, 0]) - (3 * N / 4 - 0.5)) <= 0.5
+    del i
+
+
+def test_mesh_coordinates_follow_the_array_axes(x_field):
+    m = cmcsurf.mesh(x_field, solid="surface")
+    v = m.vertices
+    # The phi = 1/2 surface of a field of x alone: planes x = const.
+    assert len(np.unique(np.round(v[:, 0], 9))) <= 2
+    assert len(np.unique(np.round(v[:, 1], 9))) > N // 2
+
+
+def test_any_real_dtype_and_strides_give_the_same_field(x_field):
+    def measure(phi):
+        return comparable(cmcsurf.measure(phi, 0.05, threads=1))
+    ref = measure(x_field)
+    fortran = np.asfortranarray(x_field)
+    strided = np.zeros((N, 2 * N, N))[:, ::2, :]
+    strided[...] = x_field
+    for variant in (fortran, strided, x_field.tolist()):
+        assert measure(variant) == ref
+    as32 = x_field.astype(np.float32)
+    assert measure(as32) == measure(as32.astype(np.float64))
+    # A 0/1 integer field (a segmented volume) is accepted and left unchanged.
+    seg = (x_field > 0.5).astype(np.int32)
+    before = seg.copy()
+    assert 0.3 < cmcsurf.measure(seg, 0.05)["volume_fraction"] < 0.7
+    assert np.array_equal(seg, before)
+
+
+def test_transposed_field_is_not_the_same_field(x_field):
+    a = cmcsurf.mesh(x_field, solid="surface").vertices
+    b = cmcsurf.mesh(np.ascontiguousarray(x_field.transpose(1, 0, 2)), solid="surface").vertices
+    assert len(np.unique(np.round(b[:, 1], 9))) <= 2  # the planes are now y = const
+    assert not np.array_equal(a, b)
+
+
+def test_relax_of_step_1_field_equals_run_for_a_direct_relaxation():
+    opts = dict(grid=N, epsilon=0.05, tol=1e-5)
+    phi0 = cmcsurf.initial_field("sphere", N, 0.05)
+    run = cmcsurf.run("sphere", **opts, threads=1)
+    rel = cmcsurf.relax(phi0, epsilon=0.05, tol=1e-5, surface="sphere", algorithm="direct",
+                        threads=1)
+    assert np.array_equal(rel.phi, run.phi)
+    assert comparable(rel.report) == comparable(run.report)
+
+
+def test_relax_of_a_nodal_field_equals_run():
+    phi0 = cmcsurf.initial_field("G", N, 0.05)
+    run = cmcsurf.run("G", 0.3, N, epsilon=0.05, threads=1)
+    rel = cmcsurf.relax(phi0, 0.3, epsilon=0.05, surface="G", threads=1)
+    assert np.array_equal(rel.phi, run.phi)
+    assert comparable(rel.report) == comparable(run.report)
+    assert run.report["volume_corrections"] >= 1  # the whole algorithm ran, constraint too
+
+
+def test_relax_holds_the_own_volume_fraction_by_default(x_field):
+    own = cmcsurf.measure(x_field, 0.05)["volume_fraction"]
+    r = cmcsurf.relax(x_field, epsilon=0.05, threads=1)
+    assert r.report["surface"] == "field" and r.report["volume_fraction_target"] == own
+    assert abs(r.report["volume_fraction"] - own) <= r.report["parameters"]["volume_tol"]
+
+
+def test_direct_relax_keeps_the_mass(x_field):
+    r = cmcsurf.relax(x_field, epsilon=0.05, max_steps=5, algorithm="direct", threads=1)
+    assert r.report["steps"] == 5 and r.report["volume_fraction_target"] is None
+    assert abs(r.phi.mean() - x_field.mean()) < 1e-10
+    with pytest.raises(ValueError, match="volume_fraction"):
+        cmcsurf.relax(x_field, 0.4, algorithm="direct")
+    with pytest.raises(ValueError, match="algorithm"):
+        cmcsurf.relax(x_field, algorithm="fast")
+    with pytest.raises(ValueError, match="--volume-fraction"):
+        cmcsurf.relax(x_field, 1.5)
+    with pytest.raises(ValueError, match="both phases"):
+        cmcsurf.relax(np.zeros((N, N, N)))
+
+
+BAD_ARRAYS = [
+    (np.zeros((16, 16, 8)), ValueError, "cubic"),
+    (np.zeros((16, 16)), ValueError, "cubic"),
+    (np.zeros((50, 50, 50)), ValueError, "48 or 56"),
+    (np.zeros((4, 4, 4)), ValueError, "phi"),
+    (np.full((16, 16, 16), np.nan), ValueError, "finite"),
+    (np.zeros((16, 16, 16), dtype=complex), TypeError, "dtype"),
+    (np.zeros((16, 16, 16), dtype=bool), TypeError, "dtype"),
+    ("abc", TypeError, "dtype"),
+]
+
+
+@pytest.mark.parametrize("phi,error,words", BAD_ARRAYS)
+def test_bad_arrays_are_refused_naming_phi(phi, error, words):
+    for call in (lambda: cmcsurf.measure(phi), lambda: cmcsurf.relax(phi),
+                 lambda: cmcsurf.mesh(phi)):
+        with pytest.raises(error) as e:
+            call()
+        assert str(e.value).startswith("phi:") and words in str(e.value)
+
+
+def test_inf_is_named_with_its_index():
+    phi = np.zeros((16, 16, 16))
+    phi[3, 4, 5] = np.inf
+    with pytest.raises(ValueError, match=r"phi: inf at \[3, 4, 5\]"):
+        cmcsurf.measure(phi)
+
+
+@pytest.mark.parametrize("args,option", [
+    (["--grid", "50"], "grid"), (["--volume-fraction", "1.2"], "volume_fraction"),
+    (["--epsilon", "0"], "epsilon"), (["--surface", "Q"], "surface"),
+    (["--stop", "energy"], "stop"), (["--smoother", "jacobi"], "smoother"),
+    (["--constrain", "area"], "constrain"), (["--max-steps", "0"], "max_steps"),
+    (["--dt-max-factor", "0.25"], "dt_max_factor"),
+])
+def test_bad_options_raise_the_cli_message(args, option):
+    cli = run_cli("run", *args, "--out", "/nonexistent/never-written", check=False)
+    assert cli.returncode == 2
+    message = cli.stderr.strip().removeprefix("error: ")
+    value = args[1]
+    kwargs = {option: value if option in ("surface", "stop", "smoother", "constrain")
+              else (int(value) if option in ("grid", "max_steps") else float(value))}
+    with pytest.raises(ValueError) as e:
+        cmcsurf.run(**kwargs)
+    assert str(e.value) == message
+
+
+@pytest.mark.parametrize("kwargs,error,words", [
+    ({"grid": 32.5}, TypeError, "grid"),
+    ({"grid": "32"}, TypeError, "grid"),
+    ({"epsilon": "small"}, TypeError, "epsilon"),
+    ({"fast": 1}, TypeError, "fast"),
+    ({"threads": -1}, ValueError, "--threads"),
+    ({"bogus": 1}, TypeError, "bogus"),
+    ({"seed": -1}, ValueError, "--seed"),
+])
+def test_bad_types_raise(kwargs, error, words):
+    with pytest.raises(error, match=words):
+        cmcsurf.run(**kwargs)
+
+
+def test_relax_refuses_coarse_levels(x_field):
+    with pytest.raises(ValueError, match="--coarse-levels"):
+        cmcsurf.relax(x_field, coarse_levels=1)

@@ -1,0 +1,64 @@
+"""mesh(): NumPy arrays of a closed, manifold, consistently oriented mesh, and its files."""
+import json
+from collections import Counter
+
+import numpy as np
+import pytest
+
+import cmcsurf
+
+
+def edge_counts(faces):
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    undirected = Counter(map(tuple, np.sort(directed, axis=1)))
+    return Counter(map(tuple, directed)), undirected
+
+
+@pytest.mark.parametrize("solid,thickness", [("network", None), ("sheet", 0.1)])
+def test_mesh_is_closed_and_manifold(gyroid_result, solid, thickness):
+    m = cmcsurf.mesh(gyroid_result, tile=(2, 1, 1), solid=solid, thickness=thickness,
+                     cell_size=1.0)
+    v, f = m.vertices, m.faces
+    assert v.dtype == np.float64 and v.shape[1] == 3 and f.dtype == np.int64 and f.shape[1] == 3
+    assert f.min() >= 0 and f.max() < len(v)
+    directed, undirected = edge_counts(f)
+    assert set(undirected.values()) == {2}      # every edge in exactly two faces: closed
+    assert set(directed.values()) == {1}        # once each way: consistently oriented
+    assert m.report["checks"]["closed"] and m.report["checks"]["manifold"]
+    assert m.report["triangles"] == len(f) and m.report["vertices"] == len(v)
+    assert np.allclose(v.max(axis=0) - v.min(axis=0), [2, 1, 1], atol=0.1)
+
+
+def test_mesh_of_result_equals_mesh_of_its_phi(gyroid_result):
+    a = cmcsurf.mesh(gyroid_result, solid="network")
+    b = cmcsurf.mesh(gyroid_result.phi, solid="network")
+    assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+
+
+@pytest.mark.parametrize("name", ["part.stl", "part.3mf", "part.obj", "part.ply"])
+def test_save_writes_the_file_and_its_report(gyroid_result, tmp_path, name):
+    m = cmcsurf.mesh(gyroid_result, tile=2, solid="network", cell_size=2.5, units="mm")
+    out = m.save(tmp_path / name)
+    assert out.exists() and out.stat().st_size > 1000
+    report = json.loads((tmp_path / (name + ".json")).read_text())
+    assert report["file"] == name and report["triangles"] == len(m.faces)
+
+
+@pytest.mark.parametrize("kwargs,error,words", [
+    ({"tile": (0, 1, 1)}, ValueError, "--tile"),
+    ({"tile": (1, 1)}, TypeError, "tile"),
+    ({"solid": "foam"}, ValueError, "--solid"),
+    ({"solid": "sheet"}, ValueError, "--thickness"),
+    ({"thickness": 0.1}, ValueError, "--thickness"),
+    ({"units": "ft"}, ValueError, "--units"),
+    ({"cell_size": -1}, ValueError, "--cell-size"),
+])
+def test_bad_mesh_options(gyroid_result, kwargs, error, words):
+    with pytest.raises(error, match=words):
+        cmcsurf.mesh(gyroid_result, **kwargs)
+
+
+def test_save_refuses_unknown_format(gyroid_result, tmp_path):
+    m = cmcsurf.mesh(gyroid_result)
+    with pytest.raises(ValueError, match="--format"):
+        m.save(tmp_path / "part.xyz")

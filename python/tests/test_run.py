@@ -1,0 +1,73 @@
+"""run(), Result.save() and measure() against the command line, bit for bit."""
+import csv
+import inspect
+
+import numpy as np
+
+import cmcsurf
+from conftest import comparable, load_report
+
+
+def test_run_report_equals_cli_report_json(gyroid_result, gyroid_cli):
+    cli = load_report(gyroid_cli)
+    ours = gyroid_result.report
+    assert comparable(ours) == comparable(cli)
+    # Exact equality of the numbers, not closeness: the same code path at the same threads.
+    assert ours["area"] == cli["area"] and ours["steps"] == cli["steps"] > 0
+
+
+def test_history_equals_cli_history_csv(gyroid_result, gyroid_cli):
+    with open(gyroid_cli / "history.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    h = gyroid_result.history
+    assert len(rows) == len(h["step"]) == gyroid_result.report["steps"] + \
+        gyroid_result.report["prerelax_steps"]
+    for key in ("time", "area", "d_area", "d_phi", "energy", "mass", "dt"):  # %.17g: exact
+        assert np.array_equal(h[key], np.array([float(r[key]) for r in rows])), key
+    assert list(h["stage"]) == [r["stage"] for r in rows]
+    assert np.array_equal(h["vcycles"], [int(r["vcycles"]) for r in rows])
+
+
+def test_save_writes_the_cli_run_folder(gyroid_result, gyroid_cli, tmp_path):
+    out = gyroid_result.save(tmp_path / "run")
+    assert out == tmp_path / "run"
+    # field.vti holds phi and the run's area in full precision: identical bytes.
+    assert (out / "field.vti").read_bytes() == (gyroid_cli / "field.vti").read_bytes()
+    assert (out / "curvature_histogram.csv").read_bytes() == \
+        (gyroid_cli / "curvature_histogram.csv").read_bytes()
+    assert comparable(load_report(out)) == comparable(gyroid_result.report)
+
+
+def test_phi_is_read_only_float64_cube(gyroid_result):
+    phi = gyroid_result.phi
+    assert phi.shape == (32, 32, 32) and phi.dtype == np.float64 and phi.flags.c_contiguous
+    assert not phi.flags.writeable
+    assert abs(phi.mean() - gyroid_result.report["mass"]) < 1e-12
+
+
+def test_measure_of_the_run_phi_equals_its_report(gyroid_result):
+    m = cmcsurf.measure(gyroid_result.phi, epsilon=0.01, surface="G", threads=1)
+    r = gyroid_result.report
+    for key in ("area", "area_error", "mean_curvature", "mean_curvature_error",
+                "total_mean_curvature", "area_diffuse", "mean_curvature_diffuse",
+                "mean_curvature_mu", "volume_fraction", "volume_fraction_cells", "mass",
+                "energy", "mean_curvature_std", "nodal_area", "nodal_mean_curvature_std",
+                "nodal_area_excess"):
+        assert m[key] == r[key], key
+
+
+def test_keyword_defaults_are_the_cli_defaults():
+    defaults = cmcsurf.default_options()
+    for fn in (cmcsurf.run, cmcsurf.relax, cmcsurf.sweep):
+        for name, p in inspect.signature(fn).parameters.items():
+            if name in defaults and p.default is not None and name not in ("surface",):
+                assert p.default == defaults[name], (fn.__name__, name)
+    sig = inspect.signature(cmcsurf.run).parameters
+    assert sig["surface"].default == defaults["surface"]
+    assert sig["grid"].default == defaults["grid"] == 64
+
+
+def test_surfaces_lists_the_builtin_table():
+    s = {d["name"]: d for d in cmcsurf.surfaces()}
+    assert s["G"]["nodal"] and s["G"]["balanced"] is True
+    assert s["sphere"]["nodal"] is False and s["sphere"]["balanced"] is None

@@ -1,0 +1,36 @@
+"""sweep() against `cmcsurf sweep`: the same members, reports and table."""
+import csv
+
+import numpy as np
+
+import cmcsurf
+from conftest import comparable, load_report, page_flags, run_cli
+
+
+def test_sweep_equals_cli_sweep(tmp_path):
+    results, table = cmcsurf.sweep(("P", "D"), (0.45, 0.5), grid=16, epsilon=0.05,
+                                   continuation=True, threads=1)
+    out = tmp_path / "sweep"
+    run_cli("sweep", "--surface", "P,D", "--volume-fractions", "0.45,0.5", "--grid", "16",
+            "--epsilon", "0.05", "--continuation", "--threads", "1", "--quiet", "--no-plot", *page_flags(),
+            "--out", str(out))
+    names = [r.report["member"] for r in results]
+    assert names == ["P_0.45", "P_0.50", "D_0.45", "D_0.50"]
+    assert results[1].report["started_from"] == "P_0.45"
+    for r in results:
+        assert comparable(r.report) == comparable(load_report(out / r.report["member"]))
+    with open(out / "sweep.csv", newline="") as f:
+        header = next(csv.reader(f))
+    timing = ("_seconds",)  # columns that differ from run to run (and the CLI's preview's)
+    assert [k for k in table if not k.endswith(timing)] == \
+        [k for k in header if not k.endswith(timing)]
+    assert np.array_equal(table["area"], [r.report["area"] for r in results])
+    assert list(table["surface"]) == ["P", "P", "D", "D"]
+
+
+def test_sweep_refuses_bad_lists():
+    import pytest
+    with pytest.raises(ValueError, match="--volume-fractions"):
+        cmcsurf.sweep(("P",), (0.5, 1.5), grid=16)
+    with pytest.raises(ValueError, match="--surface"):
+        cmcsurf.sweep(("sphere",), (0.5,), grid=16)

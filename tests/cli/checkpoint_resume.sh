@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Interrupted runs resume to the same bits (docs/reliability.md): SIGTERM and SIGINT mid-run
+# stop with checkpoint.bin and a report marked interrupted (exit 143 / 130); kill -9 after a
+# periodic checkpoint loses only the work since it; --resume gives the uninterrupted run's
+# report and field.vti, leaves no checkpoint behind, and refuses disagreeing options or a
+# damaged checkpoint with exit 2, changing nothing.
+set -u
+bin="$1"
+work=$(mktemp -d)
+trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
+fail=0
+# ~600 steps at 32^3: a few seconds, long enough to be stopped mid-way.
+args=(run --surface P --volume-fraction 0.3 --grid 32 --tol 1e-8 --no-preview --no-report)
+
+"$bin" "${args[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain run"; exit 1; }
+
+# Starts a run in the background and waits until its progress shows stage $2 (or a file).
+start() {
+  local out="$1" wait_for="$2"; shift 2
+  "$bin" "${args[@]}" --out "$out" "$@" 2>"$out.log" &
+  pid=$!
+  for _ in $(seq 1 600); do
+    if [ -e "$wait_for" ] || grep -q "^$wait_for " "$out.log" 2>/dev/null; then return 0; fi
+    sleep 0.02
+  done
+  echo "FAIL: $wait_for never appeared"; cat "$out.log"; fail=1
+}
+
+same_as_whole() {  # $1: folder of a resumed run
+  python3 - "$work/whole" "$1" <<'PY' || fail=1
+import json, sys
+a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
+timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
+          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
+          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
+          "resumed_from_step", "preview_seconds"}
+diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+assert not diff, f"resumed report differs in {diff}"
+assert b["resumed_from_step"] > 0 and b["steps"] == a["steps"] and b["vcycles"] == a["vcycles"]
+PY
+  # Every field value: the VTI files differ at most in their timing metadata lines.
+  cmp -s <(grep -av seconds "$work/whole/field.vti") <(grep -av seconds "$1/field.vti") ||
+    { echo "FAIL: $1/field.vti differs from the uninterrupted run's"; fail=1; }
+  [ ! -e "$1/checkpoint.bin" ] || { echo "FAIL: $1/checkpoint.bin left after completion"; fail=1; }
+}
+
+for sig in TERM INT; do
+  out="$work/sig$sig"
+  start "$out" relax
+  kill -$sig $pid
+  wait $pid
+  rc=$?
+  want=$([ $sig = TERM ] && echo 143 || echo 130)
+  [ "$rc" = "$want" ] || { echo "FAIL: SIG$sig exited $rc, want $want"; cat "$out.log"; fail=1; }
+  grep -q "resume with: .* run --resume $out" "$out.log" || { echo "FAIL: no resume hint"; fail=1; }
+  python3 -c "
+import json, sys; r = json.load(open('$out/report.json'))
+assert r['stop_reason'] == 'interrupted' and not r['converged'], r['stop_reason']
+assert r['checkpoint']['file'] == 'checkpoint.bin' and r['resume'].endswith('--resume $out')
+" || fail=1
+  [ -s "$out/checkpoint.bin" ] || { echo "FAIL: SIG$sig left no checkpoint"; fail=1; }
+  if ls "$out" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$out")"; fail=1; fi
+
+  # Options that disagree with the checkpoint: exit 2, nothing changes.
+  before=$(md5sum "$out"/* | md5sum)
+  "$bin" run --resume "$out" --grid 64 2>"$work/err"
+  rc=$?
+  [ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" ||
+    { echo "FAIL: --resume with --grid 64 exited $rc:"; cat "$work/err"; fail=1; }
+  [ "$before" = "$(md5sum "$out"/* | md5sum)" ] || { echo "FAIL: a refused resume changed files"; fail=1; }
+
+  [ $sig = INT ] && break  # its checkpoint is damaged below
+  "$bin" run --resume "$out" --tol 1e-8 --quiet --no-preview --no-report ||
+    { echo "FAIL: resume after SIG$sig"; fail=1; }
+  same_as_whole "$out"
+done
+
+# kill -9 after a periodic checkpoint: the resumed run still ends on the same bits.
+out="$work/killed"
+mkdir -p "$out"
+start "$out" "$out/checkpoint.bin" --checkpoint-every 0.3
+kill -9 $pid
+wait $pid 2>/dev/null
+[ -s "$out/checkpoint.bin" ] || { echo "FAIL: no periodic checkpoint"; fail=1; }
+"$bin" run --resume "$out" --quiet || { echo "FAIL: resume after kill -9"; fail=1; }
+same_as_whole "$out"
+
+# A damaged checkpoint is refused (exit 2, named), and so is a folder without one.
+printf 'X' | dd of="$work/sigINT/checkpoint.bin" bs=1 seek=5000 conv=notrunc status=none
+"$bin" run --resume "$work/sigINT" 2>"$work/err"
+rc=$?
+[ $rc = 2 ] && grep -q "checkpoint.bin.*checksum" "$work/err" ||
+  { echo "FAIL: damaged checkpoint: exit $rc"; cat "$work/err"; fail=1; }
+"$bin" run --resume "$work/whole" 2>"$work/err"
+rc=$?
+[ $rc = 2 ] && grep -q "no checkpoint.bin" "$work/err" ||
+  { echo "FAIL: resume of a complete run: exit $rc"; cat "$work/err"; fail=1; }
+
+[ $fail = 0 ] && echo "checkpoint_resume: all passed"
+exit $fail
