@@ -54,9 +54,7 @@ void check_decomposable(const RunParams& p, const Decomposition& world) {
 // How to continue an interrupted run in dir: this executable (under mpirun with as many
 // processes) and --resume.
 std::string resume_command(const std::filesystem::path& dir, const Decomposition& world) {
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  std::string cmd = fmt::format("{} run --resume {}", ec ? "cmcsurf" : exe.string(), dir.string());
+  const std::string cmd = fmt::format("{} run --resume {}", self_executable(), dir.string());
   return world.distributed() ? fmt::format("mpirun -np {} {}", world.ranks(), cmd) : cmd;
 }
 

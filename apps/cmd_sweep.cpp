@@ -17,6 +17,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 #include "report_page.h"
+#include "run_control.h"
 
 namespace cmcsurf::cli {
 
@@ -38,6 +39,7 @@ struct SweepCommand {
   std::string python = "/usr/bin/python3";
   std::string plot_script;
   PageOptions pages;  // --no-preview, --no-report
+  CheckpointOptions checkpoints;  // --checkpoint-every, --resume
 };
 
 std::string shell_quote(const std::string& s) {
@@ -132,12 +134,62 @@ nlohmann::json sweep_summary(const SweepParams& sp, std::size_t members, int thr
   return summary;
 }
 
-int sweep(SweepCommand& cmd) {
-  const SweepParams sp = validate(cmd);
+// sweep --resume: the sweep that sweep.json describes; options given must agree with it.
+SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, const fs::path& dir) {
+  const fs::path file = dir / "sweep.json";
+  SweepParams sp;
+  try {
+    const nlohmann::json j = read_json_file(file);
+    j.at("surfaces").get_to(sp.surfaces);
+    j.at("volume_fractions").get_to(sp.fractions);
+    j.at("continuation").get_to(sp.continuation);
+    sp.run = resumed_params(app, given.run, j.at("parameters"), file);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw UsageError(fmt::format("--resume {}: no sweep to resume ({})", dir.string(), e.what()));
+  }
+  auto differs = [&](const char* option, bool d) {
+    if (d && app.count(option))
+      throw UsageError(fmt::format("{}: differs from the sweep in {} ({}); a resumed sweep keeps "
+                                   "its members (leave the option out)",
+                                   option, file.string(), option));
+  };
+  differs("--surface", given.surfaces != sp.surfaces);
+  differs("--volume-fractions", given.fractions != sp.fractions);
+  differs("--continuation", given.continuation != sp.continuation);
+  return sp;
+}
+
+// Stops a sweep between two members when a signal arrived while one was being written.
+struct StopBetweenMembers {};
+
+int sweep(SweepCommand& cmd, const CLI::App& app) {
+  const bool resuming = !cmd.checkpoints.resume.empty();
+  if (resuming) {
+    if (app.count("--out") && fs::path(cmd.out) != cmd.checkpoints.resume)
+      throw UsageError(fmt::format("--out {}: a resumed sweep writes into its own folder, "
+                                   "--resume {}",
+                                   cmd.out, cmd.checkpoints.resume));
+    cmd.out = cmd.checkpoints.resume;
+  }
+  SweepParams sp = validate(cmd);
   const fs::path dir(cmd.out);
+  if (resuming) sp = resumed_sweep(app, sp, dir);
   const int threads = apply_threads(cmd.threads);
   const auto t0 = std::chrono::steady_clock::now();
   ensure_directory(dir);
+  // sweep.json first, marked incomplete, so that an interrupted sweep can be resumed.
+  if (!resuming) {
+    nlohmann::json started = sweep_summary(sp, sp.surfaces.size() * sp.fractions.size(), threads, 0);
+    started["complete"] = false;
+    write_json_atomic(dir / "sweep.json", started);
+  }
+  const std::string resume_cmd = fmt::format("{} sweep --resume {}", self_executable(), dir.string());
+  SignalGuard signals;
+  CheckpointSink sink(dir, sp.run, cmd.checkpoints.every, nullptr);
+  SweepMember current;
+  int skipped = 0, resumed = 0;
   std::vector<nlohmann::json> reports;
   std::vector<GalleryMember> gallery;
   Progress progress(cmd.quiet);
@@ -159,6 +211,7 @@ int sweep(SweepCommand& cmd) {
                                          if (preview)
                                            write_png(dir / m.name / "preview.png", preview->image);
                                        }));
+    fs::remove(dir / m.name / kCheckpointFileName);  // the member is complete
     if (!cmd.pages.no_report) write_run_page(dir / m.name);
     if (preview)
       gallery.push_back({m.surface, m.name, m.alpha, r.final.mean_curvature,
@@ -167,10 +220,69 @@ int sweep(SweepCommand& cmd) {
     progress.finish();
     if (!cmd.quiet) print_member(m, r, quality);
   };
-  run_sweep(sp, starting, done, [&](const StepRecord& s) { progress.step(s); });
+  // Each member's folder: kept when complete (resume), continued from its checkpoint, or
+  // cleared of an earlier run's outputs.
+  auto plan = [&](const SweepMember& m) {
+    if (SignalGuard::received()) throw StopBetweenMembers{};
+    current = m;
+    const fs::path mdir = dir / m.name;
+    sink.retarget(mdir, m.params);
+    MemberStart start;
+    if (resuming && fs::exists(mdir / kCheckpointFileName)) {
+      nlohmann::json saved;
+      start.checkpoint = load_checkpoint(mdir, &saved, nullptr);
+      if (saved != params_json(m.params))
+        throw UsageError(fmt::format("--resume: {} belongs to a run with other parameters than "
+                                     "the sweep's member {}",
+                                     (mdir / kCheckpointFileName).string(), m.name));
+      start.kind = MemberStart::Kind::kResume;
+      ++resumed;
+      return start;
+    }
+    if (resuming && fs::exists(mdir / "report.json")) {
+      nlohmann::json report = read_json_file(mdir / "report.json");
+      if (report.value("stop_reason", "") != "interrupted" && fs::exists(mdir / "field.vti") &&
+          report.value("parameters", nlohmann::json()) == params_json(m.params) &&
+          report.value("started_from", "") == m.started_from) {
+        start.kind = MemberStart::Kind::kSkip;
+        if (sp.continuation)
+          start.field =
+              std::move(read_vti(mdir / "field.vti", VtiReadOptions{2, 1 << 13, "phi"}).arrays["phi"]);
+        reports.push_back(std::move(report));
+        write_file_atomic(dir / "sweep.csv", sweep_csv(reports));
+        ++skipped;
+        if (!cmd.quiet)
+          std::cerr << fmt::format("[{}/{}] {}: complete, kept\n", m.index + 1, m.count, m.name);
+        return start;
+      }
+    }
+    ensure_directory(mdir);
+    clear_run_outputs(mdir);
+    fs::remove(mdir / kCheckpointFileName);
+    return start;
+  };
+  RunContext context([&](const StepRecord& s) { progress.step(s); });
+  sink.attach(context);
+  try {
+    run_sweep(sp, starting, done, context, plan);
+  } catch (RunInterrupted& stop) {
+    progress.finish();
+    return finish_interrupted(dir / current.name, current.params, stop, sink, threads,
+                              resume_cmd, cmd.quiet,
+                              {{"volume_fraction_target", current.alpha},
+                               {"member", current.name},
+                               {"started_from", current.started_from}});
+  } catch (const StopBetweenMembers&) {
+    std::cerr << fmt::format("\ninterrupted by a signal between members ({} complete)\n"
+                             "resume with: {}\n",
+                             reports.size(), resume_cmd);
+    return SignalGuard::exit_code();
+  }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!cmd.no_plot) plot(cmd, dir);
   nlohmann::json summary = sweep_summary(sp, reports.size(), threads, wall);
+  summary["complete"] = true;
+  if (resuming) summary["resumed"] = {{"members_kept", skipped}, {"members_resumed", resumed}};
   if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
   write_json_atomic(dir / "sweep.json", summary);
   if (!cmd.pages.no_report) write_sweep_page(dir);
@@ -208,7 +320,8 @@ CommandFn add_sweep_command(CLI::App& root) {
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
-  return {app, [cmd]() -> int { return sweep(*cmd); }};
+  add_checkpoint_options(*app, cmd->checkpoints, true);
+  return {app, [cmd, app]() -> int { return sweep(*cmd, *app); }};
 }
 
 }  // namespace cmcsurf::cli

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -79,7 +80,8 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
     app.add_option("--resume", options.resume,
                    "Continue the interrupted run in DIR from DIR/checkpoint.bin, to the same "
                    "result as if it had not stopped; its parameters come from the checkpoint "
-                   "(options given must agree with them)");
+                   "(options given must agree with them). A sweep skips its complete members "
+                   "and resumes the interrupted one");
 }
 
 CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, double every,
@@ -108,6 +110,27 @@ void CheckpointSink::attach(RunContext& context) {
     }
     last_ = now_seconds();
   };
+}
+
+void CheckpointSink::retarget(fs::path dir, const RunParams& params) {
+  dir_ = std::move(dir);
+  params_ = params_json(params);
+}
+
+std::string self_executable() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? "cmcsurf" : exe.string();
+}
+
+nlohmann::json read_json_file(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  }
 }
 
 void CheckpointSink::write(const Checkpoint& c) {

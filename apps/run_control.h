@@ -47,6 +47,9 @@ class CheckpointSink {
   CheckpointSink(std::filesystem::path dir, const RunParams& params, double every,
                  std::shared_ptr<const Decomposition> world);
   void attach(RunContext& context);
+  // The next checkpoints go to another folder, of a run with other parameters (a sweep's
+  // members).
+  void retarget(std::filesystem::path dir, const RunParams& params);
   // Writes dir/checkpoint.bin now (the interrupted run's state); throws on failure.
   void write(const Checkpoint& c);
   int written() const { return written_; }
@@ -76,6 +79,13 @@ int finish_interrupted(const std::filesystem::path& dir, const RunParams& params
 std::shared_ptr<const Checkpoint> load_checkpoint(const std::filesystem::path& dir,
                                                   nlohmann::json* params,
                                                   const std::shared_ptr<const Decomposition>& world);
+
+// This executable's path (for the resume command printed on interruption).
+std::string self_executable();
+
+// A JSON file a resume relies on (sweep.json, a member's report.json); a missing or unreadable
+// one throws std::runtime_error naming it.
+nlohmann::json read_json_file(const std::filesystem::path& path);
 
 // --resume: the options given on the command line (app's, with a count) must agree with the
 // parameters the run started with (`saved`, params_json); returns the parameters to use.

@@ -180,7 +180,7 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
 }
 
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
-               const MemberFn& done, const RunContext& context) {
+               const MemberFn& done, const RunContext& context, const PlanFn& plan) {
   const int count = int(params.surfaces.size() * params.fractions.size());
   int index = 0;
   for (std::size_t s = 0; s < params.surfaces.size(); ++s) {
@@ -199,9 +199,27 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
       m.params.volume_fraction = alpha;
       const bool continued = params.continuation && !previous_name.empty();
       m.started_from = continued ? previous_name : "nodal";
+      MemberStart start = plan ? plan(m) : MemberStart{};
+      if (start.kind == MemberStart::Kind::kSkip) {  // done before
+        if (params.continuation) {
+          previous = Field(params.run.grid, 2);
+          copy_interior(start.field, previous);
+          previous_name = m.name;
+          previous_alpha = alpha;
+        }
+        continue;
+      }
       if (starting) starting(m);
-      RunResult r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context)
-                              : run_cmc(m.params, context);
+      RunResult r;
+      if (start.kind == MemberStart::Kind::kResume) {  // its checkpoint holds its start
+        RunContext resumed = context;
+        resumed.resume = start.checkpoint;
+        r = continued ? relax_to_volume_fraction(Field(), m.params, resumed)
+                      : run_cmc(m.params, resumed);
+      } else {
+        r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context)
+                      : run_cmc(m.params, context);
+      }
       if (params.continuation) {
         previous = Field(params.run.grid, 2);
         copy_interior(r.phi, previous);

@@ -54,12 +54,24 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
 // area and mean curvature of that nodal surface's tanh profile at epsilon. Whole grid only.
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
 
-// Runs every member, surfaces outermost, fractions in the given order. `starting` is called
-// before a member runs, `done` after (it may keep or write the result; the field is only kept
-// here for the next member's continuation).
+// How a member starts when a sweep resumes (sweep --resume): from scratch, from its own
+// checkpoint, or not at all, its folder holding it complete; `field` is then its final phi,
+// which continues the family.
+struct MemberStart {
+  enum class Kind { kRun, kResume, kSkip };
+  Kind kind = Kind::kRun;
+  std::shared_ptr<const Checkpoint> checkpoint;  // kResume
+  Field field;                                   // kSkip, with continuation
+};
+using PlanFn = std::function<MemberStart(const SweepMember&)>;
+
+// Runs every member, surfaces outermost, fractions in the given order. `plan` (may be empty:
+// every member runs) is asked first; `starting` is called before a member runs, `done` after
+// (it may keep or write the result; the field is only kept here for the next member's
+// continuation). A RunInterrupted from a member's run passes through.
 using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
-               const MemberFn& done, const RunContext& context = {});
+               const MemberFn& done, const RunContext& context = {}, const PlanFn& plan = {});
 
 
 }  // namespace cmcsurf
