@@ -10,8 +10,13 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           admesh libopenmpi-dev openmpi-bin
           # The Python module (python/, docs/python.md) and its tests and examples.
           pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
-          python3-setuptools python3-wheel python3-pip python3-venv)
-# Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti).
+          python3-setuptools python3-wheel python3-pip python3-venv
+          # Pictures and report.html (docs/report.md): stb (PNG, TrueType), the font, and npm
+          # to bundle three.js at build time (a nodejs that brings its own npm is kept).
+          libstb-dev fonts-dejavu-core)
+command -v npm >/dev/null || packages+=(nodejs npm)
+# Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti, and
+# chromium, the headless browser that opens report.html).
 read -r -a extra <<<"${CMCSURF_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")
 if [ "${1:-}" != "--no-install" ]; then

@@ -7,7 +7,7 @@
 # ./build-mpi and ./build-checked; `none` skips the MPI or the checked build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-CMCSURF_EXTRA_PACKAGES="python3-vtk9 ${CMCSURF_EXTRA_PACKAGES:-}" scripts/setup.sh "$@"
+CMCSURF_EXTRA_PACKAGES="python3-vtk9 chromium ${CMCSURF_EXTRA_PACKAGES:-}" scripts/setup.sh "$@"
 build="${CMCSURF_BUILD_DIR:-build}"
 ctest --test-dir "$build" --output-on-failure -j 2 --timeout 600
 mpi_build="${CMCSURF_MPI_BUILD_DIR:-build-mpi}"

@@ -275,6 +275,9 @@ function main() {
     statusEl.textContent = '3D view: drag to rotate, scroll to zoom, right-drag to pan';
     statusEl.dataset.status = 'ok';
   }
+  // Where the view is, for a test that looks at a screenshot of the page.
+  const r = canvas.getBoundingClientRect();
+  statusEl.dataset.canvas = [r.left, r.top, r.right, r.bottom].map(Math.round).join(',');
 }
 
 main();

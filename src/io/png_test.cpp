@@ -1,0 +1,84 @@
+#include "io/png.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "io/report_html.h"
+#include "support/temp_dir.h"
+
+namespace cmcsurf {
+namespace {
+
+TEST(Png, RoundTripsEveryPixel) {
+  Image img(37, 23);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      p[0] = std::uint8_t(7 * x);
+      p[1] = std::uint8_t(11 * y);
+      p[2] = std::uint8_t(x * y);
+    }
+  TempDir tmp("png");
+  write_png(tmp / "a.png", img);
+  const std::string bytes = encode_png(img);
+  ASSERT_GT(bytes.size(), 33u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  const Image back = read_png(tmp / "a.png");
+  ASSERT_EQ(back.width, 37);
+  ASSERT_EQ(back.height, 23);
+  EXPECT_EQ(back.rgb, img.rgb);
+}
+
+TEST(Png, UnreadableFileNamesItself) {
+  TempDir tmp("png");
+  {
+    std::ofstream(tmp / "bad.png") << "not a png";
+  }
+  try {
+    read_png(tmp / "bad.png");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.png"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReportHtml, Base64OfRfc4648Vectors) {
+  EXPECT_EQ(base64(""), "");
+  EXPECT_EQ(base64("f"), "Zg==");
+  EXPECT_EQ(base64("fo"), "Zm8=");
+  EXPECT_EQ(base64("foo"), "Zm9v");
+  EXPECT_EQ(base64("foob"), "Zm9vYg==");
+  EXPECT_EQ(base64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(base64(std::string("\xff\x00\x80", 3)), "/wCA");
+}
+
+TEST(ReportHtml, NumbersCarryAllDigitsAndTheScriptCannotBeClosedByData) {
+  const nlohmann::json report = {{"area", 3.0918123456789}, {"grid", 64},
+                                 {"surface", "expr:</script><b>"}, {"nodal_area_excess", 0.00123}};
+  const std::string table = numbers_table_html(report, run_number_rows(), "numbers");
+  const std::string key = "data-key=\"area\" data-value=\"";
+  ASSERT_NE(table.find(key), std::string::npos) << table;
+  EXPECT_EQ(std::stod(table.substr(table.find(key) + key.size())), 3.0918123456789);
+  EXPECT_NE(table.find(">3.091812<"), std::string::npos) << table;
+  EXPECT_NE(table.find("data-value=\"64\">64<"), std::string::npos);
+  EXPECT_NE(table.find("+0.1230%"), std::string::npos) << table;
+  EXPECT_EQ(table.find("<b>"), std::string::npos);
+  ReportPage page;
+  page.title = "t";
+  page.data = {{"surface", "</script><script>alert(1)</script>"}};
+  const std::string html = report_page_html(page);
+  const std::string open = "id=\"cmc-data\">";
+  const auto data = html.find(open);
+  ASSERT_NE(data, std::string::npos);
+  const auto end = html.find("</script>", data);
+  // The element ends where the data ends, and the data reads back unchanged.
+  EXPECT_EQ(nlohmann::json::parse(html.substr(data + open.size(), end - data - open.size())),
+            page.data);
+  EXPECT_EQ(html.find("<script>alert"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cmcsurf

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# report.html (docs/report.md) of a run and of a sweep, opened by headless Chromium from a file
+# URL with no network: no script or console error, a non-blank WebGL view, the numbers equal to
+# report.json; the sweep's gallery.png is a valid picture. Skipped without Chromium
+# (scripts/test.sh installs Debian's chromium).
+set -eu
+bin="$1"
+here=$(cd "$(dirname "$0")" && pwd)
+chromium=$(command -v chromium || command -v chromium-browser || true)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$bin" run --surface G --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 --quiet \
+  --out "$work/g"
+"$bin" sweep --surface P --volume-fractions 0.4,0.6 --grid 16 --epsilon 0.04 --max-steps 20 \
+  --quiet --out "$work/sweep"
+for f in g/report.html g/preview.png sweep/report.html sweep/gallery.png sweep/P_0.40/report.html \
+         sweep/P_0.60/preview.png; do
+  [ -s "$work/$f" ] || { echo "FAIL: missing $f"; exit 1; }
+done
+# Self-contained: nothing is fetched (no src= or href= leaving the file).
+if grep -Eqi '(src|href)="(https?:)?//' "$work/g/report.html"; then
+  echo "FAIL: report.html loads something over the network"; exit 1
+fi
+/usr/bin/python3 - "$work/sweep" "$here/../page" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[2])
+from png_check import read_png, region_stats
+d = sys.argv[1]
+w, h, rows = read_png(f"{d}/gallery.png")
+assert w > 400 and h > 200, (w, h)
+var, coloured = region_stats(rows, 0, 0, w, h)  # mostly the white families plot
+assert var > 100 and coloured > 0.03, (var, coloured)
+assert json.load(open(f"{d}/sweep.json"))["gallery_seconds"] > 0
+print("report_page: gallery.png passed")
+PY
+# cmcsurf report rewrites the page from the folder alone.
+rm "$work/g/report.html"
+"$bin" report --quiet "$work/g"
+[ -s "$work/g/report.html" ] || { echo "FAIL: report wrote no report.html"; exit 1; }
+if [ -z "$chromium" ]; then
+  echo "report_page: browser checks skipped (no chromium: apt-get install chromium)"
+  exit 0
+fi
+/usr/bin/python3 "$here/../page/check_page.py" "$chromium" "$work/g/report.html" "$work"
+/usr/bin/python3 "$here/../page/check_page.py" "$chromium" "$work/sweep/report.html" "$work"
+echo "report_page: all passed"

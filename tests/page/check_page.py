@@ -1,0 +1,103 @@
+"""Opens a report.html in headless Chromium from a file URL with the network cut off (every host
+name resolves nowhere) and checks (docs/report.md): the page's status is "ok" (no script error,
+no console.error, WebGL available), no "Uncaught" error in the browser's log, the 3D view in a
+screenshot is not blank (grey-level variance and coloured fraction of the canvas's box), and
+every number cell (data-key, data-value) equals the report.json it came from.
+
+usage: check_page.py CHROMIUM report.html WORKDIR [MEMBER_DIR_PARENT]
+For a run page the numbers are compared with report.json beside report.html; for a sweep page
+(rows data-member=NAME) with NAME/report.json.
+"""
+import html.parser
+import json
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png_check import read_png, region_stats  # noqa: E402
+
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+         "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
+         "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
+         "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
+         "--v=0"]
+
+
+def chromium(exe, page, work, *extra):
+    profile = os.path.join(work, "profile")
+    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, "file://" + os.path.abspath(page)]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
+    return p.stdout, p.stderr
+
+
+class Cells(html.parser.HTMLParser):
+    """The status div and every td with data-key (with its row's data-member, if any)."""
+
+    def __init__(self):
+        super().__init__()
+        self.status, self.cells, self.member, self._cell = None, [], None, None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if a.get("id") == "status":
+            self.status = a
+        if tag == "tr":
+            self.member = a.get("data-member")
+        if tag == "td" and "data-key" in a:
+            self._cell = [self.member, a["data-key"], a.get("data-value"), ""]
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell[3] += data
+
+    def handle_endtag(self, tag):
+        if tag == "td" and self._cell is not None:
+            self.cells.append(tuple(self._cell))
+            self._cell = None
+
+
+def main():
+    exe, page, work = sys.argv[1:4]
+    folder = os.path.dirname(os.path.abspath(page))
+    dom, log = chromium(exe, page, work, "--dump-dom")
+    assert "Uncaught" not in log, [l for l in log.splitlines() if "Uncaught" in l]
+    parsed = Cells()
+    parsed.feed(dom)
+    status = parsed.status
+    assert status is not None, "no #status in the page"
+    assert status.get("data-status") == "ok", f"page status: {status}"
+    # Numbers: every cell with a data-value equals report.json's value exactly, and its text
+    # shows the same number to the printed digits.
+    reports = {}
+    checked = 0
+    for member, key, value, text in parsed.cells:
+        path = os.path.join(folder, member, "report.json") if member else os.path.join(folder, "report.json")
+        report = reports.setdefault(path, json.load(open(path)))
+        assert key in report, (path, key)
+        if value is None:
+            continue
+        want = report[key]
+        assert float(value) == float(want), (member, key, value, want)
+        shown = text.split("±")[0].strip().rstrip("%")
+        scale = 100.0 if text.strip().endswith("%") else 1.0
+        digits = shown.lstrip("+-").split(".")
+        ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
+        assert abs(float(shown) - scale * float(want)) <= 0.51 * ulp, (key, text, want)
+        checked += 1
+    assert checked >= 5, f"only {checked} numbers on the page"
+    # The 3D view is drawn: a screenshot's canvas box is not blank.
+    shot = os.path.join(work, "shot.png")
+    chromium(exe, page, work, f"--screenshot={shot}")
+    x0, y0, x1, y1 = (int(v) for v in status["data-canvas"].split(","))
+    w, h, rows = read_png(shot)
+    x1, y1 = min(x1, w), min(y1, h)
+    assert x1 - x0 > 100 and y1 - y0 > 100, (x0, y0, x1, y1, w, h)
+    var, coloured = region_stats(rows, x0 + 2, y0 + 2, x1 - 2, y1 - 2)
+    assert var > 50 and coloured > 0.05, f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
+    print(f"check_page: {os.path.basename(folder)}: status ok, {checked} numbers equal report.json, "
+          f"view variance {var:.0f}, coloured {coloured:.2f}")
+
+
+main()
