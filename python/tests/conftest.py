@@ -64,11 +64,12 @@ def load_report(folder):
 
 
 # Keys that differ between two identical runs: wall-clock times, the process's peak memory,
-# and the version.
+# and the version; and the CLI's checkpoint count (`cmcsurf run` checkpoints, Python runs do
+# not: interrupting one raises KeyboardInterrupt instead).
 def comparable(report):
     def keep(key):
         return not (key.endswith("_seconds") or key.startswith("peak_memory")
-                    or key in ("version", "seconds_per_vcycle"))
+                    or key in ("version", "seconds_per_vcycle", "checkpoints_written"))
     if isinstance(report, dict):
         return {k: comparable(v) for k, v in report.items() if keep(k)}
     if isinstance(report, list):
