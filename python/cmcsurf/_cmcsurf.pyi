@@ -19,9 +19,12 @@ class Result:
     def history(self) -> Dict[str, np.ndarray]:
         """history.csv's columns: step, stage, time, area, d_area, d_phi, energy, mass,
         vcycles, residual, elapsed, dt (int64 / float64 / str arrays), one row per time step."""
-    def save(self, dir: Union[str, PathLike[str]], float32: bool = False) -> Any:
-        """Writes the run folder as `cmcsurf run --out dir` does (report.json last); returns
-        the pathlib.Path of dir."""
+    def save(self, dir: Union[str, PathLike[str]], float32: bool = False,
+             preview: bool = True) -> Any:
+        """Writes the run folder as `cmcsurf run --out dir --no-report` does: history.csv,
+        curvature_histogram.csv, field.vti (float32: single precision), preview.png (unless
+        preview=False; report.json then gains preview_seconds) and report.json last. The
+        interactive report.html: `cmcsurf report dir`. Returns the pathlib.Path of dir."""
 
 class Mesh:
     """A triangle mesh in output units."""

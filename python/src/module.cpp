@@ -24,12 +24,14 @@
 
 #include "cahn_hilliard/time_step.h"
 #include "io/mesh_output.h"
+#include "io/png.h"
 #include "io/run_folder.h"
 #include "io/run_report.h"
 #include "measure/sharp_volume.h"
 #include "mesh/scaffold.h"
 #include "multigrid/fas.h"
 #include "pipeline/cmc.h"
+#include "pipeline/preview.h"
 #include "pipeline/run_options.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
@@ -355,11 +357,20 @@ struct Result {
     history_cache = d;
     return d;
   }
-  // The run folder exactly as `cmcsurf run` writes it (write_run_folder).
-  py::object save(const std::filesystem::path& dir, bool float32) {
+  // The run folder as `cmcsurf run --no-report` writes it (write_run_folder), with the
+  // preview stage and preview.png unless preview is false (then as --no-preview too).
+  py::object save(const std::filesystem::path& dir, bool float32, bool preview) {
     {
       py::gil_scoped_release release;
-      write_run_folder(dir, params, result, result.phi, quality, threads, float32, extra);
+      std::optional<RunPreview> picture;
+      nlohmann::json x = extra;
+      if (preview) {
+        picture = make_run_preview(result.phi, params, result, quality);
+        x["preview_seconds"] = picture->seconds;
+      }
+      write_run_folder(dir, params, result, result.phi, quality, threads, float32, x, [&] {
+        if (picture) write_png(dir / "preview.png", picture->image);
+      });
     }
     return py::module_::import("pathlib").attr("Path")(dir.string());
   }
@@ -630,7 +641,8 @@ PYBIND11_MODULE(_cmcsurf, m) {
       .def_property_readonly("phi", &Result::phi)
       .def_property_readonly("report", &Result::report_dict)
       .def_property_readonly("history", &Result::history)
-      .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false);
+      .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false,
+           py::arg("preview") = true);
   py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh")
       .def_property_readonly("vertices", &Mesh::vertices)
       .def_property_readonly("faces", &Mesh::faces)

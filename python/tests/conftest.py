@@ -54,8 +54,9 @@ def gyroid_result():
 @pytest.fixture(scope="session")
 def gyroid_cli(tmp_path_factory):
     out = tmp_path_factory.mktemp("cli") / "gyroid"
+    report = [f for f in page_flags() if f == "--no-report"]  # keeps preview.png
     run_cli("run", "--surface", "G", "--volume-fraction", "0.5", "--grid", "32", "--threads",
-            "1", "--quiet", *page_flags(), "--out", str(out))
+            "1", "--quiet", *report, "--out", str(out))
     return out
 
 

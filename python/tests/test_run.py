@@ -35,7 +35,14 @@ def test_save_writes_the_cli_run_folder(gyroid_result, gyroid_cli, tmp_path):
     assert (out / "field.vti").read_bytes() == (gyroid_cli / "field.vti").read_bytes()
     assert (out / "curvature_histogram.csv").read_bytes() == \
         (gyroid_cli / "curvature_histogram.csv").read_bytes()
-    assert comparable(load_report(out)) == comparable(gyroid_result.report)
+    assert (out / "preview.png").read_bytes() == (gyroid_cli / "preview.png").read_bytes()
+    saved = load_report(out)
+    assert saved["preview_seconds"] > 0
+    assert comparable(saved) == comparable(gyroid_result.report)
+    # Without the preview stage: no preview.png, and into the same folder the earlier run's
+    # outputs go first.
+    gyroid_result.save(out, preview=False)
+    assert not (out / "preview.png").exists() and "preview_seconds" not in load_report(out)
 
 
 def test_phi_is_read_only_float64_cube(gyroid_result):
