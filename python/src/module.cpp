@@ -230,7 +230,12 @@ py::dict step_dict(const StepRecord& r) {
 // every step (RunContext::control) and after it, so Ctrl-C stops the run within a step.
 class Interaction {
  public:
-  explicit Interaction(py::object progress) : progress_(std::move(progress)) {}
+  explicit Interaction(py::object progress) : progress_(std::move(progress)) {
+    if (!progress_.is_none() && !PyCallable_Check(progress_.ptr()))
+      throw py::type_error(fmt::format(
+          "progress: got {}; accepted: None or a callable taking one dict per time step",
+          std::string(py::repr(progress_))));
+  }
 
   RunContext context() {
     RunContext c;

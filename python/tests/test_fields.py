@@ -156,6 +156,7 @@ def test_bad_options_raise_the_cli_message(args, option):
     ({"threads": -1}, ValueError, "--threads"),
     ({"bogus": 1}, TypeError, "bogus"),
     ({"seed": -1}, ValueError, "--seed"),
+    ({"progress": 5}, TypeError, "progress"),
 ])
 def test_bad_types_raise(kwargs, error, words):
     with pytest.raises(error, match=words):
