@@ -81,3 +81,13 @@ def test_surfaces_lists_the_builtin_table():
     s = {d["name"]: d for d in cmcsurf.surfaces()}
     assert s["G"]["nodal"] and s["G"]["balanced"] is True
     assert s["sphere"]["nodal"] is False and s["sphere"]["balanced"] is None
+
+
+def test_every_cli_run_option_is_a_keyword_of_run():
+    from conftest import run_cli
+    help_text = run_cli("run", "--help").stdout
+    kwargs = set(inspect.signature(cmcsurf.run).parameters)
+    for key in cmcsurf.default_options():
+        if "--" + key.replace("_", "-") in help_text:
+            assert key in kwargs, key
+    assert "--threads" in help_text and "threads" in kwargs
