@@ -22,10 +22,13 @@ def run_example(name, tmp_path, *args):
 
 def test_fig11(tmp_path):
     pytest.importorskip("matplotlib")
-    p = run_example("fig11.py", tmp_path, "--grid", "16", "--out", "fig11.png")
+    p = run_example("fig11.py", tmp_path, "--grid", "16", "--fractions", "0.4,0.5,0.6",
+                    "--out", "fig11.png")
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "fig11.png").stat().st_size > 10000
-    assert p.stdout.count("area") >= 9  # 3 surfaces x 3 fractions
+    members = [line for line in p.stdout.splitlines() if ": area " in line]
+    assert len(members) == 9  # 3 surfaces x 3 fractions
+    assert not any("area 0.00000" in line for line in members)  # none dissolved
 
 
 def test_relax_noisy(tmp_path):
