@@ -12,6 +12,8 @@
 #include <fstream>
 #include <optional>
 #include <set>
+#include <span>
+#include <streambuf>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -174,10 +176,10 @@ struct Tag {
 
 class HeaderParser {
  public:
-  explicit HeaderParser(const std::filesystem::path& path) : path_(path) {}
+  explicit HeaderParser(std::string source) : source_(std::move(source)) {}
 
   [[noreturn]] void fail(const std::string& msg) const {
-    throw std::runtime_error(fmt::format("cannot read VTI file '{}': {}", path_.string(), msg));
+    throw std::runtime_error(fmt::format("cannot read VTI file '{}': {}", source_, msg));
   }
 
   // Parses text from the start; true once the '_' marker after
@@ -425,7 +427,7 @@ class HeaderParser {
     in_appended_ = true;
   }
 
-  const std::filesystem::path& path_;
+  std::string source_;
   std::vector<std::string> stack_;
   std::vector<ArrayInfo> arrays_;
   std::map<std::string, std::string> metadata_;
@@ -460,6 +462,33 @@ void read_values(std::istream& in, Field& f, int m, std::vector<char>& bytes) {
     }
   }
 }
+
+// A read-only, seekable stream buffer over bytes in memory (parse_vti).
+class MemoryBuffer : public std::streambuf {
+ public:
+  explicit MemoryBuffer(std::span<const unsigned char> bytes) {
+    // The get area is never written through: no put area, and putback only re-reads.
+    char* first = const_cast<char*>(reinterpret_cast<const char*>(bytes.data()));
+    setg(first, first, first + bytes.size());
+  }
+
+ protected:
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+    const off_type base = dir == std::ios_base::beg   ? 0
+                          : dir == std::ios_base::cur ? gptr() - eback()
+                                                      : egptr() - eback();
+    return seekpos(pos_type(base + off), std::ios_base::in);
+  }
+  pos_type seekpos(pos_type pos, std::ios_base::openmode) override {
+    const off_type p = off_type(pos);
+    if (p < 0 || p > egptr() - eback()) return pos_type(off_type(-1));
+    setg(eback(), eback() + p, egptr());
+    return pos;
+  }
+};
+
+VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser& parser,
+                        const VtiReadOptions& options);
 
 }  // namespace
 
@@ -540,13 +569,28 @@ VtiData read_vti(const std::filesystem::path& path, int ghost) {
 }
 
 VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& options) {
-  HeaderParser parser(path);
+  HeaderParser parser(path.string());
   std::error_code ec;
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
   if (ec) parser.fail(ec.message());
   std::ifstream in(path, std::ios::binary);
   if (!in) parser.fail(std::strerror(errno));
+  return read_vti_stream(in, file_size, parser, options);
+}
 
+VtiData parse_vti(std::span<const unsigned char> bytes, const VtiReadOptions& options,
+                  const std::string& source) {
+  HeaderParser parser(source);
+  MemoryBuffer buffer(bytes);
+  std::istream in(&buffer);
+  return read_vti_stream(in, bytes.size(), parser, options);
+}
+
+namespace {
+
+// `in` holds file_size bytes, positioned at the start.
+VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser& parser,
+                        const VtiReadOptions& options) {
   // Read a growing prefix until the header parses up to the '_' marker, at most
   // kMaxVtiHeaderBytes.
   std::string text;
@@ -603,6 +647,10 @@ VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& option
   };
   std::vector<Range> ranges;
   for (const ArrayInfo& a : parser.arrays()) {
+    // First the offset alone: data_start + offset must not wrap past 2^64 to the header.
+    if (a.offset > file_size)
+      parser.fail(fmt::format("array '{}' has offset {} beyond the end of the file ({} bytes)",
+                              a.name, a.offset, file_size));
     const auto [begin, end] = byte_range(a);
     if (begin + hb > file_size || end > file_size)
       parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
@@ -646,5 +694,7 @@ VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& option
   }
   return result;
 }
+
+}  // namespace
 
 }  // namespace cmcsurf

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,5 +59,10 @@ struct VtiReadOptions {
   std::string only;
 };
 VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& options);
+
+// The same reader over the bytes of a whole file held in memory (fuzz/vti_fuzz.cpp); `source`
+// names them in the messages ("cannot read VTI file '<source>': ...").
+VtiData parse_vti(std::span<const unsigned char> bytes, const VtiReadOptions& options = {},
+                  const std::string& source = "(memory)");
 
 }  // namespace cmcsurf

@@ -396,5 +396,60 @@ TEST(IoVtiBadData, SizeLimitAndOneArrayAreCheckedBeforeReading) {
   }
 }
 
+TEST(IoVtiBadData, OffsetWrappingPastTheEndIsRefused) {
+  // data_start + offset wrapped modulo 2^64 to bytes of the header (found while writing the
+  // fuzz corpus, fuzz/corpus/vti/bad-offset-wraps.vti): a comment hiding a valid byte count
+  // and values was read as phi.
+  TempDir tmp;
+  const int n = 4, m = n + 1;
+  const Field phi = random_field(n, 7);
+  const auto path = tmp / "wrap.vti";
+  write_vti(path, {{"phi", &phi}});
+  std::string text = slurp(path);
+  std::string hidden(8 + 8 * m * m * m, '\0');
+  const std::uint64_t count = 8 * m * m * m;
+  const double half = 0.5;
+  std::memcpy(hidden.data(), &count, 8);
+  for (int c = 0; c < m * m * m; ++c) std::memcpy(hidden.data() + 8 + 8 * c, &half, 8);
+  text.insert(text.find('\n') + 1, "<!-- " + hidden + " -->\n");
+  const std::size_t hidden_at = text.find("<!-- ") + 5;
+  const std::string zeros = "offset=\"00000000000000000000\"";  // fixed width
+  text.replace(text.find("offset=\"0\""), 10, zeros);
+  const std::size_t data = text.find('_', text.find("encoding=\"raw\"")) + 1;
+  const std::string wrapped = std::to_string(std::uint64_t(0) - data + hidden_at);
+  text.replace(text.find(zeros) + 8, 20, std::string(20 - wrapped.size(), '0') + wrapped);
+  write_file_atomic(path, text);
+  expect_read_error(path, {"'phi'", "offset " + wrapped, "beyond the end of the file"});
+}
+
+TEST(IoVti, ParseFromMemoryIsTheFileReader) {
+  TempDir tmp;
+  const Field phi = random_field(6, 8), mu = random_field(6, 9);
+  const auto path = tmp / "two.vti";
+  write_vti(path, {{"phi", &phi}, {"mu", &mu}}, false, {{"surface", "G"}});
+  const std::string text = slurp(path);
+  const auto* first = reinterpret_cast<const unsigned char*>(text.data());
+  const VtiData from_file = read_vti(path);
+  const VtiData from_memory = parse_vti({first, text.size()});
+  ASSERT_EQ(from_memory.n, from_file.n);
+  ASSERT_EQ(from_memory.arrays.size(), 2u);
+  EXPECT_EQ(from_memory.metadata, from_file.metadata);
+  for (const auto& [name, f] : from_file.arrays) {
+    const Field& g = from_memory.arrays.at(name);
+    for (int k = -1; k <= 6; ++k)
+      for (int j = -1; j <= 6; ++j)
+        for (int i = -1; i <= 6; ++i) ASSERT_TRUE(bit_equal(f(i, j, k), g(i, j, k))) << name;
+  }
+  // The source's name stands for the path in messages.
+  try {
+    parse_vti({first, text.size() - 100}, {}, "bytes of two.vti");
+    ADD_FAILURE() << "accepted a truncated copy";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read VTI file 'bytes of two.vti': file truncated"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace cmcsurf
