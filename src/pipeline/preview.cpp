@@ -22,10 +22,12 @@ PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, d
   }
   double spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
   if (with_nodal && is_nodal_surface(surface)) {
+    // F is a trigonometric polynomial: sampled on the drawing lattice itself its curvature is
+    // already good to O(h^2) there, and at 256^3 that saves 63 of every 64 evaluations.
     InitialFieldParams init;
     init.surface = surface;
     NodalLevelSet nodal;
-    nodal.f = make_initial_field(init, phi.n(), 2);
+    nodal.f = make_initial_field(init, phi.n() / draw_stride(phi.n(), max_cells), 2);
     nodal.level = nodal_level;
     out.nodal = draw_surface(nodal_level_function(nodal), max_cells);
     out.has_nodal = true;

@@ -30,7 +30,8 @@ struct PreviewSurfaces {
 };
 
 // phi: the whole final field (any ghost width). nodal_level: c of the nodal surface
-// {F + 1/2 = c} (CmcQuality::nodal_level), used when `surface` is nodal.
+// {F + 1/2 = c} (CmcQuality::nodal_level), used when `surface` is nodal. The relaxed surface's H
+// comes from phi's full resolution; the nodal formula is sampled on the drawing lattice.
 PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal = true);
 

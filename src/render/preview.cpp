@@ -136,14 +136,17 @@ Image render_preview(const DrawSurface& relaxed, const DrawSurface* nodal,
   draw_text(img, 16, 60, 15, labels.subtitle, kGreyInk);
   const DrawSurface* surfaces[2] = {&relaxed, nodal};
   const std::string* headers[2] = {&labels.relaxed, &labels.nodal};
+  // The panels are independent: one per thread.
+  Image panels[4];
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < 2 * cols; ++k)
+    panels[k] = render_panel(*surfaces[k / 2], k % 2 == 0 ? 1 : 2, scale, kPreviewPanel);
   for (int c = 0; c < cols; ++c) {
     const int x = c * kPreviewPanel;
     draw_text(img, x + kPreviewPanel / 2, kPreviewTitle + 20, 17, *headers[c], kInk,
               Align::kCenter);
-    for (int row = 0; row < 2; ++row) {
-      const Image panel = render_panel(*surfaces[c], row == 0 ? 1 : 2, scale, kPreviewPanel);
-      img.paste(panel, x, kPreviewTitle + kPreviewHeader + row * kPreviewPanel);
-    }
+    for (int row = 0; row < 2; ++row)
+      img.paste(panels[2 * c + row], x, kPreviewTitle + kPreviewHeader + row * kPreviewPanel);
     draw_text(img, x + 10, kPreviewTitle + kPreviewHeader + 20, 14, "unit cell", kGreyInk);
     draw_text(img, x + 10, kPreviewTitle + kPreviewHeader + kPreviewPanel + 20, 14, "2 × 2 × 2",
               kGreyInk);
@@ -180,13 +183,24 @@ Image render_gallery(const std::string& title, const std::vector<GalleryRow>& ro
   Image img(width, height);
   draw_text(img, 16, 32, 22, title, kInk);
   if (plot_w) img.paste(resize_image(plot, plot_w, plot_h), 0, title_h);
+  std::vector<std::pair<std::size_t, std::size_t>> cells;  // (row, tile), drawn in parallel
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t t = 0; t < rows[r].tiles.size(); ++t) cells.emplace_back(r, t);
+  std::vector<Image> tiles(cells.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const GalleryTile& tile = rows[cells[k].first].tiles[cells[k].second];
+    if (tile.surface) tiles[k] = render_panel(*tile.surface, 1, scale, kGalleryTile);
+  }
+  std::size_t next = 0;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const int y = title_h + int(r) * row_h;
     draw_text(img, grid_x + 8, y + kGalleryTile / 2 + 8, 22, rows[r].family, kInk);
     for (std::size_t t = 0; t < rows[r].tiles.size(); ++t) {
       const GalleryTile& tile = rows[r].tiles[t];
       const int x = grid_x + label_w + int(t) * kGalleryTile;
-      if (tile.surface) img.paste(render_panel(*tile.surface, 1, scale, kGalleryTile), x, y);
+      if (tile.surface) img.paste(tiles[next], x, y);
+      ++next;
       draw_text(img, x + kGalleryTile / 2, y + kGalleryTile + 14, 13, tile.label, kInk,
                 Align::kCenter);
     }
