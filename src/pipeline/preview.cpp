@@ -45,10 +45,9 @@ PreviewLabels preview_labels(const std::string& surface, double alpha, double me
   if (name.size() > 36) name = name.substr(0, 33) + "...";
   PreviewLabels l;
   l.title = fmt::format("{}    α = {:.4g}    H = {:+.5g}", name, alpha, mean_curvature);
-  l.subtitle = fmt::format(
-      "φ = 1/2 on {}³ cells, ε = {:.3g}: colour is the local mean curvature, centred on H", grid,
-      epsilon);
-  l.relaxed = fmt::format("relaxed (CMC): H std {:.3g}", relaxed_std);
+  l.subtitle = fmt::format("{}³ cells, ε = {:.3g}; colour: local mean curvature of φ = 1/2", grid,
+                           epsilon);
+  l.relaxed = fmt::format("{}: H std {:.3g}", has_nodal ? "relaxed (CMC)" : "relaxed", relaxed_std);
   if (has_nodal) l.nodal = fmt::format("nodal, same volume: H std {:.3g}", nodal_std);
   return l;
 }
