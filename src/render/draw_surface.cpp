@@ -39,6 +39,7 @@ CellValues cell_values(const Field& psi, int i, int j, int k) {
 DrawSurface draw_surface(const Field& psi, int max_cells) {
   if (!psi.whole()) throw std::invalid_argument("draw_surface: needs the whole grid");
   require_ghost(psi, 2, "draw_surface");
+  CMCSURF_DCHECK(halo_is_current(psi));  // the curvature stencil reads the ghosts
   if (max_cells < 2) throw std::invalid_argument("draw_surface: max_cells must be >= 2");
   const int n = psi.n();
   const int s = draw_stride(n, max_cells);

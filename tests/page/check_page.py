@@ -1,8 +1,10 @@
 """Opens a report.html in headless Chromium from a file URL with the network cut off (every host
 name resolves nowhere) and checks (docs/report.md): the page's status is "ok" (no script error,
 no console.error, WebGL available), no "Uncaught" error in the browser's log, the 3D view in a
-screenshot is not blank (grey-level variance and coloured fraction of the canvas's box), and
-every number cell (data-key, data-value) equals the report.json it came from.
+screenshot is not blank (grey-level variance and coloured fraction of the canvas's box), every
+number cell (data-key, data-value) equals the report.json it came from, and the other views
+(report.html#nodal&tiles=2, #member=NAME&tiles=3, ...) load with no error and show what they
+name.
 
 usage: check_page.py CHROMIUM report.html WORKDIR [MEMBER_DIR_PARENT]
 For a run page the numbers are compared with report.json beside report.html; for a sweep page
@@ -24,9 +26,10 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader
          "--v=0"]
 
 
-def chromium(exe, page, work, *extra):
+def chromium(exe, page, work, *extra, fragment=""):
     profile = os.path.join(work, "profile")
-    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, "file://" + os.path.abspath(page)]
+    url = "file://" + os.path.abspath(page) + fragment
+    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, url]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
     return p.stdout, p.stderr
@@ -96,8 +99,18 @@ def main():
     assert x1 - x0 > 100 and y1 - y0 > 100, (x0, y0, x1, y1, w, h)
     var, coloured = region_stats(rows, x0 + 2, y0 + 2, x1 - 2, y1 - 2)
     assert var > 50 and coloured > 0.05, f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
+    # The other views (nodal twin or another member, 2^3 and 3^3 tiles) from the address.
+    members = [m for m, _, _, _ in parsed.cells if m]
+    views = [(f"#member={members[-1]}&tiles={t}", f"{members[-1]},{t}") for t in (2, 3)] if members \
+        else [(f"#nodal&tiles={t}", f"nodal,{t}") for t in (2, 3)] + [("#tiles=3", "relaxed,3")]
+    for fragment, shown in views:
+        dom, log = chromium(exe, page, work, "--dump-dom", fragment=fragment)
+        view = Cells()
+        view.feed(dom)
+        assert "Uncaught" not in log and view.status.get("data-status") == "ok", (fragment, view.status)
+        assert view.status.get("data-shown") == shown, (fragment, view.status)
     print(f"check_page: {os.path.basename(folder)}: status ok, {checked} numbers equal report.json, "
-          f"view variance {var:.0f}, coloured {coloured:.2f}")
+          f"view variance {var:.0f}, coloured {coloured:.2f}; views {', '.join(f for f, _ in views)} ok")
 
 
 main()

@@ -22,6 +22,12 @@ console.error = (...args) => {
 
 const data = JSON.parse(document.getElementById('cmc-data').textContent);
 const SVG = 'http://www.w3.org/2000/svg';
+// The first view from the address: report.html#nodal&tiles=2, or #member=G_0.30&tiles=3.
+const initial = (() => {
+  const p = new URLSearchParams(window.location.hash.slice(1));
+  const tiles = Number(p.get('tiles'));
+  return { nodal: p.has('nodal'), member: p.get('member'), tiles: [1, 2, 3].includes(tiles) ? tiles : 1 };
+})();
 
 function decode(b64) {
   const s = atob(b64);
@@ -204,10 +210,14 @@ function histogramChart(parent, hist) {
 
 function runPage(viewer, controls) {
   const geoms = { relaxed: geometry(data.relaxed), nodal: data.nodal ? geometry(data.nodal) : null };
-  const state = { which: 'relaxed', tiles: 1 };
-  const update = () => viewer.show(geoms[state.which], data.relaxed.origin, state.tiles);
+  const state = { which: initial.nodal && geoms.nodal ? 'nodal' : 'relaxed', tiles: initial.tiles };
+  const update = () => {
+    viewer.show(geoms[state.which], data.relaxed.origin, state.tiles);
+    statusEl.dataset.shown = `${state.which},${state.tiles}`;
+  };
   const twin = el('label', {}, controls);
   const box = el('input', { type: 'checkbox', id: 'nodal-toggle' }, twin);
+  box.checked = state.which === 'nodal';
   twin.appendChild(document.createTextNode(' nodal twin (same volume fraction)'));
   if (!geoms.nodal) { box.disabled = true; twin.title = 'this surface has no nodal formula'; }
   box.addEventListener('change', () => { state.which = box.checked && geoms.nodal ? 'nodal' : 'relaxed'; update(); });
@@ -215,7 +225,7 @@ function runPage(viewer, controls) {
   for (const t of [1, 2, 3]) {
     const l = el('label', { style: 'display: inline; margin-right: 8px' }, tiles);
     const r = el('input', { type: 'radio', name: 'tiles', value: t, id: `tiles-${t}` }, l);
-    if (t === 1) r.checked = true;
+    if (t === state.tiles) r.checked = true;
     l.appendChild(document.createTextNode(` ${t}³`));
     r.addEventListener('change', () => { state.tiles = t; update(); });
   }
@@ -232,7 +242,8 @@ function runPage(viewer, controls) {
 function sweepPage(viewer, controls) {
   const geoms = new Map();
   const label = el('div', { id: 'member-label' }, controls);
-  const state = { member: 0, tiles: 1 };
+  const state = { member: Math.max(0, data.members.findIndex((m) => m.name === initial.member)),
+    tiles: initial.tiles };
   const rows = [...document.querySelectorAll('tr.member')];
   const update = () => {
     const m = data.members[state.member];
@@ -240,6 +251,7 @@ function sweepPage(viewer, controls) {
     viewer.show(geoms.get(m.name), m.mesh.origin, state.tiles);
     label.textContent = `${m.name}: H = ${(m.mean_curvature >= 0 ? '+' : '') + fmt(m.mean_curvature)}`;
     rows.forEach((r) => r.classList.toggle('selected', r.dataset.member === m.name));
+    statusEl.dataset.shown = `${m.name},${state.tiles}`;
   };
   rows.forEach((r) => r.addEventListener('click', () => {
     state.member = data.members.findIndex((m) => m.name === r.dataset.member);
@@ -249,7 +261,7 @@ function sweepPage(viewer, controls) {
   for (const t of [1, 2, 3]) {
     const l = el('label', { style: 'display: inline; margin-right: 8px' }, tiles);
     const r = el('input', { type: 'radio', name: 'tiles', value: t }, l);
-    if (t === 1) r.checked = true;
+    if (t === state.tiles) r.checked = true;
     l.appendChild(document.createTextNode(` ${t}³`));
     r.addEventListener('change', () => { state.tiles = t; update(); });
   }
