@@ -168,7 +168,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
   } catch (RunInterrupted& stop) {
     progress.finish();
     return finish_interrupted(dir, p, stop, sink, threads, resume_command(dir, *world),
-                              cmd.quiet);
+                              cmd.quiet, decomposition_json(*world));
   }
   progress.finish();
 
