@@ -22,6 +22,7 @@ from png_check import read_png, region_stats  # noqa: E402
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
          "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
          "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
+         "--disable-dev-shm-usage",
          "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
          "--v=0"]
 
