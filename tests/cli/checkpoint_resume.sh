@@ -75,6 +75,18 @@ assert r['checkpoint']['file'] == 'checkpoint.bin' and r['resume'].endswith('--r
   same_as_whole "$out"
 done
 
+# A second signal exits at once (128 + signal), leaving nothing under a final name that was
+# not complete: no report.json of the interrupted kind without its checkpoint.
+out="$work/twice"
+start "$out" relax
+kill -TERM $pid; kill -TERM $pid
+wait $pid
+rc=$?
+[ $rc = 143 ] || { echo "FAIL: two SIGTERMs exited $rc"; fail=1; }
+if [ -e "$out/report.json" ] && [ ! -e "$out/checkpoint.bin" ]; then
+  echo "FAIL: a report without its checkpoint"; fail=1
+fi
+
 # kill -9 after a periodic checkpoint: the resumed run still ends on the same bits.
 out="$work/killed"
 mkdir -p "$out"
