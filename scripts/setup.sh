@@ -19,6 +19,10 @@ command -v npm >/dev/null || packages+=(nodejs npm)
 # chromium, the headless browser that opens report.html).
 read -r -a extra <<<"${CMCSURF_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")
+# Opt-in: CMCSURF_FUZZ_BUILD_DIR=build-fuzz adds clang, libFuzzer and clang's OpenMP and builds
+# the libFuzzer targets of fuzz/ there (docs/reliability.md, "Sanitizers and fuzzing").
+fuzz_build="${CMCSURF_FUZZ_BUILD_DIR:-none}"
+[ "$fuzz_build" = none ] || packages+=(clang libfuzzer-14-dev libomp-14-dev)
 if [ "${1:-}" != "--no-install" ]; then
   missing=()
   for p in "${packages[@]}"; do
@@ -43,4 +47,11 @@ if [ "$mpi_build" != none ]; then
         -DCMCSURF_BUILD_BENCH=OFF >/dev/null
   cmake --build "$mpi_build" -j "$(nproc)" --target cmcsurf cmcsurf_mpi_tests
   echo "setup: built $mpi_build/cmcsurf (MPI: mpirun -np P $mpi_build/cmcsurf run ...)"
+fi
+if [ "$fuzz_build" != none ]; then
+  cmake -S . -B "$fuzz_build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DCMCSURF_FUZZ=ON -DCMCSURF_BUILD_TESTS=OFF -DCMCSURF_BUILD_BENCH=OFF \
+        -DCMCSURF_WEB_VIEWER=OFF >/dev/null
+  cmake --build "$fuzz_build" -j "$(nproc)" --target cmcsurf_fuzz
+  echo "setup: built the fuzz targets in $fuzz_build/fuzz (docs/reliability.md)"
 fi

@@ -2,9 +2,10 @@
 # Sets up (Debian packages + builds) and runs the whole test suite with CTest: the serial
 # build, the decomposition tests (label mpi) of the MPI build under mpirun -np 2 and 4, and the
 # unit tests (label unit) once more in a checked build (-DCMAKE_BUILD_TYPE=Checked: asserts,
-# libstdc++ assertions and the CMCSURF_DCHECKs of the ghost rule, docs/architecture.md).
-# CMCSURF_BUILD_DIR, CMCSURF_MPI_BUILD_DIR and CMCSURF_CHECKED_BUILD_DIR override ./build,
-# ./build-mpi and ./build-checked; `none` skips the MPI or the checked build.
+# libstdc++ assertions and the CMCSURF_DCHECKs of the ghost rule, docs/architecture.md), and
+# the unit and CLI tests under ASan + UBSan (-DCMAKE_BUILD_TYPE=Sanitize, docs/reliability.md).
+# CMCSURF_BUILD_DIR, CMCSURF_MPI_BUILD_DIR, CMCSURF_CHECKED_BUILD_DIR and CMCSURF_ASAN_BUILD_DIR
+# override ./build, ./build-mpi, ./build-checked and ./build-asan; `none` skips all but the first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CMCSURF_EXTRA_PACKAGES="python3-vtk9 chromium ${CMCSURF_EXTRA_PACKAGES:-}" scripts/setup.sh "$@"
@@ -26,4 +27,32 @@ if [ "$checked_build" != none ]; then
   slow='^(parallel\.kernels_vs_reference|Sweep\.RelaxedSurfaceIsCloserToCmcThanTheNodalOne'
   slow+='|Sweep\.ContinuationMemberReportsItsVolumeCorrections)$'
   ctest --test-dir "$checked_build" --output-on-failure -j 2 --timeout 600 -L unit -E "$slow"
+fi
+# The unit and CLI tests once more under AddressSanitizer + UndefinedBehaviorSanitizer
+# (-DCMAKE_BUILD_TYPE=Sanitize; docs/reliability.md, "Sanitizers and fuzzing"): a memory error,
+# a leak or undefined behaviour aborts its test (abort_on_error: SIGABRT, never mistaken for
+# the exit 1 or 2 a CLI test expects). CMCSURF_ASAN_BUILD_DIR overrides ./build-asan; `none`
+# skips it. Left to the serial build, to keep this pass near seven minutes on two cores (build
+# five, tests two and a half): the three tests the checked pass leaves out; four unit tests
+# that solve the same problem twice to compare two solver settings (the coarse-to-fine, the
+# adaptive-dt and the combined fast run against the direct one, and a sweep's symmetry: 55 s
+# of CPU here, their code runs here in the shorter Pipeline.* and Sweep.* tests);
+# cli.checkpoint_resume (runs, kills and resumes the solver six times: 100 s of CPU here; the
+# checkpoint writer and reader run here in Resume.*, cli.sweep_resume and the fuzz corpus);
+# and cli.report_page (the page's JavaScript in chromium; this build skips the npm bundle, and
+# report.html's writer runs here in cli.run_outputs and cli.report_bad_input).
+asan_build="${CMCSURF_ASAN_BUILD_DIR:-build-asan}"
+if [ "$asan_build" != none ]; then
+  cmake -S . -B "$asan_build" -DCMAKE_BUILD_TYPE=Sanitize -DCMCSURF_BUILD_BENCH=OFF \
+        -DCMCSURF_WEB_VIEWER=OFF >/dev/null
+  cmake --build "$asan_build" -j "$(nproc)" --target cmcsurf cmcsurf_tests
+  asan_slow='^(parallel\.kernels_vs_reference|Sweep\.RelaxedSurfaceIsCloserToCmcThanTheNodalOne'
+  asan_slow+='|Sweep\.ContinuationMemberReportsItsVolumeCorrections'
+  asan_slow+='|Pipeline\.CoarseToFineMatchesDirectRun|Pipeline\.AdaptiveTimeStepsKeepTheResult'
+  asan_slow+='|Pipeline\.FastCombinationMatchesPaperFaithfulRun'
+  asan_slow+='|Sweep\.BalancedSurfaceIsSymmetricInVolumeFraction'
+  asan_slow+='|cli\.checkpoint_resume|cli\.report_page)$'
+  ASAN_OPTIONS=abort_on_error=1 UBSAN_OPTIONS=abort_on_error=1:print_stacktrace=1 \
+    ctest --test-dir "$asan_build" --output-on-failure -j 2 --timeout 600 -L 'unit|cli' \
+          -E "$asan_slow"
 fi
