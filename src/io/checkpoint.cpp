@@ -129,6 +129,7 @@ class SpanSource final : public Source {
   explicit SpanSource(std::span<const unsigned char> b) : bytes_(b) {}
   std::uint64_t size() const override { return bytes_.size(); }
   void read(void* to, std::size_t n) override {
+    if (n == 0) return;  // memcpy from or to a null pointer is undefined even for 0 bytes
     if (n > bytes_.size() - pos_) throw std::runtime_error("read past the end");
     std::memcpy(to, bytes_.data() + pos_, n);
     pos_ += n;
@@ -207,6 +208,7 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
                             kCheckpointFormat));
   const auto header_crc = get<std::uint32_t>(in);
   const auto header_bytes = get<std::uint64_t>(in);
+  if (header_bytes == 0) throw error("empty header");
   if (header_bytes > kMaxHeaderBytes || header_bytes > size - kPreambleBytes - kTrailerBytes)
     throw error(fmt::format("header of {} bytes does not fit the file's {} bytes (truncated?)",
                             header_bytes, size));
