@@ -135,7 +135,10 @@ int run(RunCommand& cmd, const CLI::App& app) {
     nlohmann::json saved;
     resume = load_checkpoint(dir, &saved, world);
     p = resumed_params(app, p, saved, dir / kCheckpointFileName);
-  } else if (world->rank() == 0) {
+  }
+  if (world->distributed()) check_decomposable(p, *world);
+  // Everything is checked: from here on the folder may change.
+  if (!resuming && world->rank() == 0) {
     clear_run_outputs(dir);  // an earlier run's report must not sit beside this one's files
     std::filesystem::remove(dir / kCheckpointFileName);
   }
@@ -143,13 +146,10 @@ int run(RunCommand& cmd, const CLI::App& app) {
   Progress progress(cmd.quiet);
   RunContext context([&](const StepRecord& s) { progress.step(s); });
   context.resume = resume;
+  if (world->distributed()) context.decomposition = world;
   SignalGuard signals;
   CheckpointSink sink(dir, p, cmd.checkpoints.every, world);
   sink.attach(context);
-  if (world->distributed()) {
-    check_decomposable(p, *world);
-    context.decomposition = world;
-  }
   const int threads = apply_threads(cmd.threads);
   if (!cmd.quiet)
     std::cerr << fmt::format(
