@@ -237,6 +237,10 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
                                      (mdir / kCheckpointFileName).string(), m.name));
       start.kind = MemberStart::Kind::kResume;
       ++resumed;
+      if (!cmd.quiet)
+        std::cerr << fmt::format("[{}/{}] {}: resuming before step {} ({} on {}^3)\n",
+                                 m.index + 1, m.count, m.name, start.checkpoint->step + 1,
+                                 start.checkpoint->cursor.stage, start.checkpoint->cursor.grid);
       return start;
     }
     if (resuming && fs::exists(mdir / "report.json")) {
