@@ -13,6 +13,7 @@
 #include "measure/sharp_volume.h"
 #include "mesh/graded.h"
 #include "mesh_options.h"
+#include "run_control.h"
 
 namespace cmcsurf::cli {
 
@@ -66,7 +67,17 @@ CommandFn add_graded_command(CLI::App& root) {
             if (cmd->members.size() < 2)
               throw UsageError("--members: give at least two run directories");
             std::vector<GradedMember> members;
+            // The volume constraint's tolerance the members were computed to (their
+            // report.json; the default for a bare .vti): their targets are accepted as ends.
+            double fraction_tol = RunParams{}.volume_tol;
             for (const std::string& m : cmd->members) {
+              const std::filesystem::path report = std::filesystem::path(m) / "report.json";
+              if (std::filesystem::is_regular_file(report)) {
+                const nlohmann::json r = read_json_file(report);
+                if (r.contains("parameters") && r["parameters"].contains("volume_tol") &&
+                    r["parameters"]["volume_tol"].is_number())
+                  fraction_tol = std::max(fraction_tol, r["parameters"]["volume_tol"].get<double>());
+              }
               GradedMember g;
               g.phi = load_phi(m, "--members");
               g.volume_fraction = sharp_volume_fraction(g.phi);
@@ -84,16 +95,17 @@ CommandFn add_graded_command(CLI::App& root) {
             const double lo = members.front().volume_fraction, hi = members.back().volume_fraction;
             for (const auto& [name, v] : {std::pair{"--from-fraction", cmd->from_fraction},
                                           std::pair{"--to-fraction", cmd->to_fraction}})
-              if (v < lo || v > hi)
+              if (!(v >= lo - fraction_tol && v <= hi + fraction_tol))
                 throw UsageError(fmt::format(
-                    "{}: got {}; accepted: within the members' volume fractions [{:.4f}, {:.4f}]",
-                    name, v, lo, hi));
+                    "{}: got {}; accepted: within the members' volume fractions [{:.6f}, {:.6f}] "
+                    "to the volume constraint's tolerance {:g}",
+                    name, v, lo, hi, fraction_tol));
             const int n = members[0].phi.n();
             const MeshPlan plan = finish_mesh_output_options(cmd->mesh, n);
             apply_threads(cmd->threads);
 
             const auto t0 = std::chrono::steady_clock::now();
-            const TiledSampler blend = graded_sampler(members, ramp, plan.params.tiles);
+            const TiledSampler blend = graded_sampler(members, ramp, plan.params.tiles, fraction_tol);
             const double sign = plan.params.other_phase ? -1.0 : 1.0;
             const TiledSampler f = [&](int i, int j, int k) { return 0.5 + sign * (blend(i, j, k) - 0.5); };
             const bool solid = plan.params.solid == SolidKind::kNetwork;
@@ -118,6 +130,7 @@ CommandFn add_graded_command(CLI::App& root) {
                   {"to_fraction", ramp.to_fraction},
                   {"members", cmd->members},
                   {"member_volume_fractions", fractions},
+                  {"fraction_tolerance", fraction_tol},
                   {"blend", "linear in the target fraction between the two bracketing members, per sample"},
                   {"cells_note", "per tile: target at the tile centre, achieved = fraction of phase-1 samples of the blended field"},
                   {"cells", graded_cell_report(blend, n, ramp, plan.params.tiles)}}}};

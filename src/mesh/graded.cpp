@@ -14,7 +14,7 @@ double graded_target(const GradedRamp& ramp, const std::array<int, 3>& tiles, do
 }
 
 TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp& ramp,
-                            const std::array<int, 3>& tiles) {
+                            const std::array<int, 3>& tiles, double fraction_tol) {
   if (members.size() < 2) throw std::invalid_argument("graded: needs at least two members");
   const int n = members[0].phi.n();
   for (const GradedMember& m : members)
@@ -29,9 +29,10 @@ TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp&
   }
   const double lo = members.front().volume_fraction, hi = members.back().volume_fraction;
   for (double a : {ramp.from_fraction, ramp.to_fraction})
-    if (a < lo || a > hi)
+    if (!(a >= lo - fraction_tol && a <= hi + fraction_tol))
       throw std::invalid_argument(fmt::format(
-          "graded: volume fraction {} is outside the members' range [{:.4f}, {:.4f}]", a, lo, hi));
+          "graded: volume fraction {} is outside the members' range [{:.6f}, {:.6f}] (+- {:g})",
+          a, lo, hi, fraction_tol));
   // Shared, so that copies of the sampler (a std::function) do not copy the fields.
   auto owned = std::make_shared<const std::vector<GradedMember>>(std::move(members));
   return [owned, ramp, tiles, n](int i, int j, int k) {

@@ -29,11 +29,15 @@ struct GradedRamp {
 double graded_target(const GradedRamp& ramp, const std::array<int, 3>& tiles, double s);
 
 // Sampler over the tiled cells. members: sorted by volume fraction, at least two, whole grids
-// of one N, with the ramp's end values inside their range (throws std::invalid_argument
-// otherwise). The sampler owns the members (pass them with std::move to avoid a copy), so it
-// stays valid after the caller's vector is gone or changed.
+// of one N, with the ramp's end values inside their range widened by fraction_tol on each
+// side (throws std::invalid_argument otherwise); an end value in that margin is held at the
+// end member. fraction_tol is the volume constraint's tolerance the members were computed to
+// (RunParams::volume_tol): members run for 0.3 and 0.6 measure e.g. 0.30006 and 0.59999, and
+// their targets 0.3 and 0.6 are then accepted as ramp ends. The sampler owns the members
+// (pass them with std::move to avoid a copy), so it stays valid after the caller's vector is
+// gone or changed.
 TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp& ramp,
-                            const std::array<int, 3>& tiles);
+                            const std::array<int, 3>& tiles, double fraction_tol = 0.0);
 
 // Per tile: the target at the tile's centre, the fraction of the tile's cells where the
 // blended field exceeds 1/2 (achieved), and the tile index.
