@@ -107,8 +107,9 @@ void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const Me
                             const nlohmann::json& extra) {
   const auto t0 = std::chrono::steady_clock::now();
   if (plan.out.has_parent_path()) ensure_directory(plan.out.parent_path());
-  write_mesh(plan.out, plan.format, mesh, plan.params.units);
+  write_mesh(plan.out, plan.format, mesh, plan.params.units, plan.meta);
   report["file"] = plan.out.filename().string();
+  report["file_bytes"] = std::filesystem::file_size(plan.out);
   report["format"] = mesh_format_extension(plan.format);
   report["write_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

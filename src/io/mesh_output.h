@@ -31,6 +31,7 @@ struct MeshPlan {
   ScaffoldParams params;
   MeshFormat format = MeshFormat::kStl;
   std::filesystem::path out;
+  MeshMetadata meta;  // 3MF only
 };
 
 // The scaffold options (tile, cell_size, units, solid, other_phase, thickness) checked against
@@ -42,8 +43,8 @@ MeshFormat mesh_output_format(const std::string& format, const std::filesystem::
 // Both of the above.
 MeshPlan plan_mesh_output(const MeshOutputOptions& s, int n);
 
-// Writes the mesh, then FILE.json (the report plus file, format, write_seconds, version and
-// `extra`), each atomically.
+// Writes the mesh, then FILE.json (the report plus file, format, file_bytes, write_seconds,
+// version and `extra`), each atomically.
 void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const MeshPlan& plan,
                             const nlohmann::json& extra);
 

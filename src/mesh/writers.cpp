@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
+
+#include <Model/COM/NMR_DLLInterfaces.h>
 
 #include "io/atomic_file.h"
 
@@ -141,117 +144,157 @@ void write_obj(const std::filesystem::path& path, const TriMesh& m) {
   w.commit();
 }
 
-std::uint32_t crc32(std::string_view data, std::uint32_t crc) {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (unsigned char b : data) crc = table[(crc ^ b) & 0xff] ^ (crc >> 8);
-  return ~crc;
+namespace {
+
+// lib3mf 1.8's C API: every call returns 0 or an error code; the message is the instance's.
+void check_3mf(LIB3MFRESULT rc, NMR::PLib3MFBase* instance, const char* what,
+               const std::filesystem::path& path) {
+  if (rc == 0) return;
+  DWORD code = 0;
+  LPCSTR message = nullptr;
+  if (instance != nullptr) NMR::lib3mf_getlasterror(instance, &code, &message);
+  throw std::runtime_error(fmt::format("3MF '{}': lib3mf {} failed (0x{:x}{}{})", path.string(),
+                                       what, rc, message ? ": " : "", message ? message : ""));
 }
 
-std::string make_stored_zip(const std::vector<ZipEntry>& entries) {
-  std::string out, central;
-  for (const ZipEntry& e : entries) {
-    if (e.data.size() >= 0xffffffffu || out.size() >= 0xffffffffu)
-      throw std::runtime_error("zip: an entry or the archive exceeds 4 GiB (no zip64)");
-    const std::uint32_t crc = crc32(e.data), size = std::uint32_t(e.data.size());
-    const std::uint32_t offset = std::uint32_t(out.size());
-    // Local file header: version 2.0, no flags, method 0 (stored), DOS time 1980-01-01.
-    put(out, std::uint32_t(0x04034b50));
-    put(out, std::uint16_t(20));
-    put(out, std::uint16_t(0));
-    put(out, std::uint16_t(0));
-    put(out, std::uint16_t(0));
-    put(out, std::uint16_t(0x21));
-    put(out, crc);
-    put(out, size);
-    put(out, size);
-    put(out, std::uint16_t(e.name.size()));
-    put(out, std::uint16_t(0));
-    out += e.name;
-    out += e.data;
-    // Central directory record.
-    put(central, std::uint32_t(0x02014b50));
-    put(central, std::uint16_t(20));
-    put(central, std::uint16_t(20));
-    put(central, std::uint16_t(0));
-    put(central, std::uint16_t(0));
-    put(central, std::uint16_t(0));
-    put(central, std::uint16_t(0x21));
-    put(central, crc);
-    put(central, size);
-    put(central, size);
-    put(central, std::uint16_t(e.name.size()));
-    put(central, std::uint16_t(0));  // extra
-    put(central, std::uint16_t(0));  // comment
-    put(central, std::uint16_t(0));  // disk
-    put(central, std::uint16_t(0));  // internal attributes
-    put(central, std::uint32_t(0));  // external attributes
-    put(central, offset);
-    central += e.name;
+// Releases a lib3mf instance at the end of a scope.
+struct Lib3mfHandle {
+  NMR::PLib3MFBase* p = nullptr;
+  Lib3mfHandle() = default;
+  Lib3mfHandle(const Lib3mfHandle&) = delete;
+  Lib3mfHandle& operator=(const Lib3mfHandle&) = delete;
+  ~Lib3mfHandle() {
+    if (p != nullptr) NMR::lib3mf_release(p);
   }
-  const std::uint32_t cd_offset = std::uint32_t(out.size());
-  out += central;
-  put(out, std::uint32_t(0x06054b50));
-  put(out, std::uint16_t(0));
-  put(out, std::uint16_t(0));
-  put(out, std::uint16_t(entries.size()));
-  put(out, std::uint16_t(entries.size()));
-  put(out, std::uint32_t(central.size()));
-  put(out, cd_offset);
-  put(out, std::uint16_t(0));
-  return out;
+};
+
+// The writer's stream callbacks (lib3mf 1.8 calls them with C linkage semantics: 0 = done).
+// They never report an error: an exception thrown inside lib3mf on a failed callback ends the
+// process, so a failed stream is left failed and AtomicWriter::commit reports it by name.
+unsigned write_callback(unsigned char* data, unsigned bytes, void* user) {
+  static_cast<std::ostream*>(user)->write(reinterpret_cast<const char*>(data), bytes);
+  return 0;
+}
+unsigned seek_callback(unsigned long long position, void* user) {
+  static_cast<std::ostream*>(user)->seekp(std::streamoff(position));
+  return 0;
 }
 
-void write_3mf(const std::filesystem::path& path, const TriMesh& m, const std::string& unit) {
+constexpr NMR::eModelUnit kLib3mfUnits[] = {NMR::MODELUNIT_MICROMETER, NMR::MODELUNIT_MILLIMETER,
+                                            NMR::MODELUNIT_CENTIMETER, NMR::MODELUNIT_METER,
+                                            NMR::MODELUNIT_INCH};
+
+}  // namespace
+
+void write_3mf(const std::filesystem::path& path, const TriMesh& m, const std::string& unit,
+               const MeshMetadata& meta) {
   check_not_periodic(m, "3MF");
-  const std::string content_types =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
-      "<Default Extension=\"rels\" "
-      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
-      "<Default Extension=\"model\" "
-      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n";
-  const std::string rels =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
-      "<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
-      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n";
-  std::string model = fmt::format(
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<model unit=\"{}\" xml:lang=\"en-US\" "
-      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n"
-      "<metadata name=\"Application\">cmcsurf</metadata>\n"
-      "<resources>\n<object id=\"1\" type=\"model\">\n<mesh>\n<vertices>\n",
-      unit_3mf_name(unit));
-  model.reserve(model.size() + 60 * m.vertices.size() + 45 * m.triangles.size());
-  auto out = std::back_inserter(model);
-  for (const Vec3& v : m.vertices)
-    fmt::format_to(out, "<vertex x=\"{:.9g}\" y=\"{:.9g}\" z=\"{:.9g}\"/>\n", v[0], v[1], v[2]);
-  model += "</vertices>\n<triangles>\n";
-  for (const auto& t : m.triangles)
-    fmt::format_to(out, "<triangle v1=\"{}\" v2=\"{}\" v3=\"{}\"/>\n", t[0], t[1], t[2]);
-  model += "</triangles>\n</mesh>\n</object>\n</resources>\n<build><item objectid=\"1\"/></build>\n"
-           "</model>\n";
-  write_file_atomic(path, make_stored_zip({{"[Content_Types].xml", content_types},
-                                           {"_rels/.rels", rels},
-                                           {"3D/3dmodel.model", std::move(model)}}));
+  if (m.vertices.size() >= 0xffffffffu || m.triangles.size() >= 0xffffffffu)
+    throw std::runtime_error(fmt::format("3MF '{}': more than 2^32 vertices or triangles", path.string()));
+  NMR::eModelUnit model_unit = NMR::MODELUNIT_MILLIMETER;
+  bool known = false;
+  for (std::size_t u = 0; u < std::size(kUnits); ++u)
+    if (unit == kUnits[u].unit) model_unit = kLib3mfUnits[u], known = true;
+  if (!known) throw std::invalid_argument(fmt::format("3MF: unknown unit '{}'", unit));
+  Lib3mfHandle model, object, item, writer;
+  check_3mf(NMR::lib3mf_createmodel(&model.p), nullptr, "createmodel", path);
+  check_3mf(NMR::lib3mf_model_setunit(model.p, model_unit), model.p, "setunit", path);
+  for (const auto& [key, value] : {std::pair{"Title", &meta.title},
+                                   std::pair{"Description", &meta.description},
+                                   std::pair{"Application", &meta.application}})
+    if (!value->empty())
+      check_3mf(NMR::lib3mf_model_addmetadatautf8(model.p, key, value->c_str()), model.p,
+                "addmetadata", path);
+  check_3mf(NMR::lib3mf_model_addmeshobject(model.p, &object.p), model.p, "addmeshobject", path);
+  {
+    std::vector<NMR::MODELMESHVERTEX> vertices(m.vertices.size());
+    for (std::size_t v = 0; v < m.vertices.size(); ++v)
+      for (int c = 0; c < 3; ++c) vertices[v].m_fPosition[c] = float(m.vertices[v][c]);
+    std::vector<NMR::MODELMESHTRIANGLE> triangles(m.triangles.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+      for (int c = 0; c < 3; ++c) triangles[t].m_nIndices[c] = m.triangles[t][c];
+    check_3mf(NMR::lib3mf_meshobject_setgeometry(object.p, vertices.data(),
+                                                 DWORD(vertices.size()), triangles.data(),
+                                                 DWORD(triangles.size())),
+              object.p, "setgeometry", path);
+  }
+  if (!meta.title.empty())
+    check_3mf(NMR::lib3mf_object_setnameutf8(object.p, meta.title.c_str()), object.p, "setname", path);
+  check_3mf(NMR::lib3mf_model_addbuilditem(model.p, object.p, nullptr, &item.p), model.p,
+            "addbuilditem", path);
+  check_3mf(NMR::lib3mf_model_querywriter(model.p, "3mf", &writer.p), model.p, "querywriter", path);
+  AtomicWriter out(path);
+  check_3mf(NMR::lib3mf_writer_writetocallback(writer.p, reinterpret_cast<void*>(&write_callback),
+                                               reinterpret_cast<void*>(&seek_callback),
+                                               &out.stream()),
+            writer.p, "write", path);
+  out.commit();
+}
+
+Read3mf read_3mf(const std::filesystem::path& path) {
+  Read3mf r;
+  Lib3mfHandle model, reader, resources, items;
+  check_3mf(NMR::lib3mf_createmodel(&model.p), nullptr, "createmodel", path);
+  check_3mf(NMR::lib3mf_model_queryreader(model.p, "3mf", &reader.p), model.p, "queryreader", path);
+  check_3mf(NMR::lib3mf_reader_readfromfileutf8(reader.p, path.c_str()), reader.p, "read", path);
+  DWORD unit = 0;
+  check_3mf(NMR::lib3mf_model_getunit(model.p, &unit), model.p, "getunit", path);
+  for (std::size_t u = 0; u < std::size(kUnits); ++u)
+    if (DWORD(kLib3mfUnits[u]) == unit) r.unit = kUnits[u].unit;
+  DWORD count = 0;
+  check_3mf(NMR::lib3mf_model_getmetadatacount(model.p, &count), model.p, "getmetadatacount", path);
+  for (DWORD i = 0; i < count; ++i) {
+    std::string kv[2];
+    for (int which = 0; which < 2; ++which) {
+      ULONG needed = 0;
+      auto get = which == 0 ? NMR::lib3mf_model_getmetadatakeyutf8 : NMR::lib3mf_model_getmetadatavalueutf8;
+      check_3mf(get(model.p, i, nullptr, 0, &needed), model.p, "getmetadata", path);
+      std::vector<char> buffer(needed + 1, '\0');
+      check_3mf(get(model.p, i, buffer.data(), ULONG(buffer.size()), &needed), model.p,
+                "getmetadata", path);
+      kv[which] = buffer.data();
+    }
+    r.metadata.emplace_back(kv[0], kv[1]);
+  }
+  check_3mf(NMR::lib3mf_model_getmeshobjects(model.p, &resources.p), model.p, "getmeshobjects", path);
+  for (BOOL more = true;;) {
+    check_3mf(NMR::lib3mf_resourceiterator_movenext(resources.p, &more), resources.p, "movenext", path);
+    if (!more) break;
+    Lib3mfHandle object;
+    check_3mf(NMR::lib3mf_resourceiterator_getcurrent(resources.p, &object.p), resources.p,
+              "getcurrent", path);
+    if (r.objects++ > 0) continue;
+    DWORD nv = 0, nt = 0;
+    check_3mf(NMR::lib3mf_meshobject_getvertexcount(object.p, &nv), object.p, "getvertexcount", path);
+    check_3mf(NMR::lib3mf_meshobject_gettrianglecount(object.p, &nt), object.p, "gettrianglecount", path);
+    std::vector<NMR::MODELMESHVERTEX> vertices(nv);
+    std::vector<NMR::MODELMESHTRIANGLE> triangles(nt);
+    check_3mf(NMR::lib3mf_meshobject_getvertices(object.p, vertices.data(), nv, nullptr), object.p,
+              "getvertices", path);
+    check_3mf(NMR::lib3mf_meshobject_gettriangleindices(object.p, triangles.data(), nt, nullptr),
+              object.p, "gettriangleindices", path);
+    r.vertices = nv;
+    r.triangles = nt;
+    for (const auto& v : vertices) r.mesh.vertices.push_back({v.m_fPosition[0], v.m_fPosition[1], v.m_fPosition[2]});
+    for (const auto& t : triangles)
+      r.mesh.triangles.push_back({t.m_nIndices[0], t.m_nIndices[1], t.m_nIndices[2]});
+  }
+  check_3mf(NMR::lib3mf_model_getbuilditems(model.p, &items.p), model.p, "getbuilditems", path);
+  for (BOOL more = true;;) {
+    check_3mf(NMR::lib3mf_builditemiterator_movenext(items.p, &more), items.p, "movenext", path);
+    if (!more) break;
+    ++r.build_items;
+  }
+  return r;
 }
 
 void write_mesh(const std::filesystem::path& path, MeshFormat format, const TriMesh& mesh,
-                const std::string& unit) {
+                const std::string& unit, const MeshMetadata& meta) {
   switch (format) {
     case MeshFormat::kStl: return write_stl(path, mesh);
     case MeshFormat::kPly: return write_ply(path, mesh);
     case MeshFormat::kObj: return write_obj(path, mesh);
-    case MeshFormat::k3mf: return write_3mf(path, mesh, unit);
+    case MeshFormat::k3mf: return write_3mf(path, mesh, unit, meta);
   }
 }
 
