@@ -1,0 +1,38 @@
+// The numbers a scaffold is judged by (docs/scaffolds.md): local thickness of each phase on the
+// periodic unit cell, as bone morphometry's "local thickness" (Hildebrand & Ruegsegger 1997):
+// at each voxel of a phase, the diameter of the largest ball inside the phase that contains
+// it. Written here: an exact squared Euclidean distance transform (Felzenszwalb & Huttenlocher's
+// separable lower envelope of parabolas, periodic), then balls from the centres no
+// neighbour's ball contains, painted largest first.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+// Exact squared distance (in voxels^2) from each voxel to the nearest voxel where !inside, on
+// the n^3 periodic grid (x fastest); 0 outside. A phase without any outside voxel gets a huge
+// value.
+std::vector<double> periodic_edt2(const std::vector<std::uint8_t>& inside, int n);
+
+// Local thickness in voxels at every voxel of the phase (0 outside): the largest 2 r - 1 over
+// the balls of radius r = sqrt(edt2(c)) around the phase's voxels c that contain it (|x - c|
+// < r). The "- 1" counts the voxel centres a ball spans, so that a slab m voxels thick gets m.
+std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n);
+
+struct ThicknessStats {
+  double mean = 0.0, std = 0.0, min = 0.0, max = 0.0;
+  double fraction = 0.0;  // of the cell's voxels in the phase
+  std::vector<double> histogram_edges, histogram;  // fraction of the phase's voxels per bin
+};
+// Over the voxels of the phase, scaled by `voxel` (output units per voxel).
+ThicknessStats thickness_stats(const std::vector<double>& thickness,
+                               const std::vector<std::uint8_t>& inside, double voxel, int bins = 20);
+nlohmann::json thickness_json(const ThicknessStats& s, const std::string& units);
+
+}  // namespace cmcsurf

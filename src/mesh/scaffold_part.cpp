@@ -1,0 +1,232 @@
+#include "mesh/scaffold_part.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "mesh/morphometry.h"
+
+namespace cmcsurf {
+
+namespace {
+
+constexpr int kMaxSolveIterations = 12;
+// A network part misses its porosity only through the box trimming the lattice (a few 1e-4
+// for whole cells); past this its level is shifted to hit the target.
+constexpr double kNetworkPorosityTol = 1e-3;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Evaluation {
+  double level = 0.0;
+  double porosity = 0.0;
+  double area = 0.0;
+  PartTopology topology;
+  TriMesh mesh;
+};
+
+Evaluation evaluate(PartLattice& lat, double level, bool keep_fragments) {
+  Evaluation e;
+  e.level = level;
+  e.topology = clean_part(lat, level, keep_fragments);
+  e.mesh = mesh_part(lat, level);
+  e.porosity = 1.0 - mesh_volume(e.mesh) / lat.box_volume();
+  e.area = mesh_area(e.mesh);
+  return e;
+}
+
+// Wall thickness t (unit cells) of a sheet of volume fraction s around a surface of area A and
+// Euler characteristic chi per cell: A t + (pi chi / 6) t^3 = s (Steiner's formula).
+double steiner_thickness(double s, double area, double chi) {
+  double t = s / area;
+  for (int it = 0; it < 50; ++it) {
+    const double g = area * t + std::numbers::pi * chi / 6 * t * t * t - s;
+    t -= g / (area + std::numbers::pi * chi / 2 * t * t);
+  }
+  return t;
+}
+
+}  // namespace
+
+double member_volume_fraction(const ScaffoldDesign& d) {
+  return d.solid == SolidKind::kNetwork ? 1.0 - d.porosity : 0.5;
+}
+
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
+  if (!(d.porosity > 0.0 && d.porosity < 1.0))
+    throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
+  if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
+    throw std::invalid_argument("a scaffold's solid is network or sheet");
+  const int n = phi.n();
+  ScaffoldPart out;
+  nlohmann::json& r = out.report;
+  auto t0 = std::chrono::steady_clock::now();
+
+  // The field sampled on the box and the level of the solid {a > level}.
+  Field distance;
+  const Field* g = &phi;
+  std::function<double(double)> transform = [](double v) { return v - 0.5; };
+  double level = 0.0, slope = 0.0;  // d porosity / d level, 0: unknown
+  nlohmann::json sheet;
+  if (d.solid == SolidKind::kSheet) {
+    const nlohmann::json periodic = periodic_surface_json(phi);
+    const double area = periodic["area"].get<double>();
+    const double chi = periodic["euler_characteristic"].get<double>();
+    const double t = steiner_thickness(1.0 - d.porosity, area, chi);
+    if (!(t > 0.0 && t < 0.5))
+      throw std::invalid_argument(fmt::format(
+          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
+          "walls thinner than half a cell", d.porosity, t));
+    distance = signed_distance(phi, std::min(0.5, t + 4.0 / n));
+    g = &distance;
+    transform = [](double v) { return -std::abs(v); };
+    level = -0.5 * t;
+    sheet = {{"thickness_steiner", t * d.cell_size}};
+  }
+  const double field_seconds = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  PartLattice lat = sample_part(*g, d.size, d.cell_size, transform);
+  const double sample_seconds = seconds_since(t0);
+
+  // The porosity: the sheet's level (its half thickness) is solved by Newton then secant
+  // steps on the part's own mesh; a network keeps the CMC level unless trimming moved it.
+  t0 = std::chrono::steady_clock::now();
+  Evaluation e = evaluate(lat, level, d.keep_fragments);
+  const double tol = d.solid == SolidKind::kSheet ? d.porosity_tol : kNetworkPorosityTol;
+  int iterations = 1;  // part meshes evaluated
+  if (std::abs(e.porosity - d.porosity) > tol) {
+    // Sheet: a level step moves both walls by cell_size per unit, over the mesh's area.
+    if (d.solid == SolidKind::kSheet) slope = e.area * d.cell_size / lat.box_volume();
+    double next = slope > 0 ? level - (e.porosity - d.porosity) / slope : level + 1e-3;
+    while (iterations < kMaxSolveIterations) {
+      Evaluation cur = evaluate(lat, next, d.keep_fragments);
+      ++iterations;
+      const double secant = (cur.porosity - e.porosity) / (cur.level - e.level);
+      e = std::move(cur);
+      const double err = e.porosity - d.porosity;
+      if (std::abs(err) <= d.porosity_tol) break;
+      if (!(std::abs(secant) > 0) || !std::isfinite(secant)) break;
+      next = e.level - err / secant;
+      if (d.solid == SolidKind::kSheet) next = std::min(next, -0.5 / n);  // a wall of at least h
+    }
+  }
+  const double solve_seconds = seconds_since(t0);
+  const PartTopology& topo = e.topology;
+  if (!topo.percolates()) {
+    std::string axes;
+    for (int c = 0; c < 3; ++c)
+      if (!topo.pore_percolates[c]) axes += std::string(axes.empty() ? "" : ", ") + "xyz"[c];
+    throw ClosedCellError(fmt::format(
+        "closed-cell part: the pore space does not connect the opposite box faces along {} "
+        "({} pore components, {} closed); powder or resin could not be cleared out, so "
+        "nothing was written. Raise --porosity, use a larger --size, or another --surface.",
+        axes, topo.pore_components, topo.closed_pores));
+  }
+
+  // Mesh size control.
+  const std::size_t triangles_full = e.mesh.triangles.size();
+  const bool decimate = d.decimate.max_triangles > 0 || d.decimate.tolerance > 0;
+  nlohmann::json decimation;
+  if (decimate) {
+    Decimated dm = decimate_solid(e.mesh, d.decimate);
+    decimation = decimated_json(dm, d.decimate, d.units);
+    if (!dm.within_budget)
+      out.warnings.push_back(fmt::format(
+          "decimation: {} triangles for a budget of {} (every smaller mesh failed the closed/"
+          "manifold/one-piece/volume checks)", dm.triangles_after, d.decimate.max_triangles));
+    e.mesh = std::move(dm.mesh);
+  }
+
+  // Measures of the mesh as written.
+  const MeshStats s = analyze_mesh(e.mesh);
+  r = mesh_stats_json(s, {1, 1, 1}, d.units, true);
+  r.erase("euler_characteristic_per_cell");
+  const double porosity = 1.0 - s.volume / lat.box_volume();
+  r["design"] = {{"porosity", d.porosity},
+                 {"solid", solid_kind_name(d.solid)},
+                 {"cell_size", d.cell_size},
+                 {"size", d.size},
+                 {"units", d.units},
+                 {"member_volume_fraction", member_volume_fraction(d)}};
+  r["porosity"] = porosity;
+  r["porosity_error"] = porosity - d.porosity;
+  r["porosity_unsimplified"] = e.porosity;
+  r["grid"] = n;
+  r["lattice_nodes"] = lat.nodes;
+  r["lattice_spacing"] = lat.spacing;
+  r["cells"] = {d.size[0] / d.cell_size, d.size[1] / d.cell_size, d.size[2] / d.cell_size};
+  r["triangles_unsimplified"] = triangles_full;
+  r["solve"] = {{"iterations", iterations}, {"level", e.level}};
+  if (d.solid == SolidKind::kSheet) {
+    sheet["thickness"] = -2.0 * e.level * d.cell_size;
+    sheet["units"] = d.units;
+    sheet["level_sets"] = "signed distance d = +-thickness/2 to the phi = 1/2 surface mesh";
+    r["sheet"] = sheet;
+  } else {
+    r["solve"]["level_shift"] = e.level;
+    r["solve"]["note"] = "phi level shift from 1/2 (0 unless trimming the box moved the porosity "
+                         "by more than 1e-3)";
+  }
+  r["topology"] = part_topology_json(topo, d.units);
+  if (topo.fragments > 0 && !topo.fragments_removed)
+    out.warnings.push_back(fmt::format("{} fragments cut off by the box were kept "
+                                       "(--keep-fragments), {:.4g} {}^3 in all",
+                                       topo.fragments, topo.fragment_volume, d.units));
+  if (topo.closed_pores > 0)
+    out.warnings.push_back(fmt::format("{} closed pores ({:.4g} {}^3) inside the part",
+                                       topo.closed_pores, topo.closed_pore_volume, d.units));
+  if (decimate) r["decimation"] = decimation;
+
+  // Morphometry on the periodic unit cell (the lattice's own walls and pores).
+  nlohmann::json morph = {{"specific_surface", s.area / s.volume},
+                          {"specific_surface_units", "1/" + d.units},
+                          {"surface_density", s.area / lat.box_volume()},
+                          {"note", "specific_surface = mesh area / solid volume, surface_density "
+                                   "= mesh area / box volume (cut faces included)"}};
+  double morph_seconds = 0.0;
+  if (d.morphometry) {
+    t0 = std::chrono::steady_clock::now();
+    const std::size_t cells = std::size_t(n) * n * n;
+    std::vector<std::uint8_t> solid(cells), pore(cells);
+    for_each_cell(n, [&](int i, int j, int k) {
+      const std::size_t id = (std::size_t(k) * n + j) * n + i;
+      solid[id] = transform((*g)(i, j, k)) > e.level;
+      pore[id] = !solid[id];
+    });
+    const double voxel = d.cell_size / n;
+    const ThicknessStats wall = thickness_stats(local_thickness(solid, n), solid, voxel);
+    const ThicknessStats pores = thickness_stats(local_thickness(pore, n), pore, voxel);
+    morph["wall_thickness"] = thickness_json(wall, d.units);
+    morph["pore_size"] = thickness_json(pores, d.units);
+    morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
+                      "periodic unit cell's N^3 voxels, exact Euclidean distance transform; "
+                      "diameters, within one voxel";
+    morph["voxel"] = voxel;
+    morph_seconds = seconds_since(t0);
+    if (d.min_feature > 0) {
+      morph["min_feature"] = d.min_feature;
+      if (wall.min < d.min_feature)
+        out.warnings.push_back(fmt::format("thinnest wall {:.4g} {} is below --min-feature {}",
+                                           wall.min, d.units, d.min_feature));
+      if (pores.min < d.min_feature)
+        out.warnings.push_back(fmt::format("narrowest pore {:.4g} {} is below --min-feature {}",
+                                           pores.min, d.units, d.min_feature));
+    }
+  }
+  r["morphometry"] = morph;
+  r["warnings"] = out.warnings;
+  r["seconds"] = {{"distance_field", field_seconds},
+                  {"sample", sample_seconds},
+                  {"solve_clean_mesh", solve_seconds},
+                  {"topology_last", topo.seconds},
+                  {"decimate", decimate ? decimation["seconds"].get<double>() : 0.0},
+                  {"morphometry", morph_seconds}};
+  out.mesh = std::move(e.mesh);
+  return out;
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,52 @@
+// `cmcsurf scaffold`'s numerics (docs/scaffolds.md): from a computed CMC member and design
+// targets (porosity, solid kind, cell size, box) to a clean part: sampled on the box, the
+// sheet's wall thickness solved for the porosity, fragments removed, the pore space checked to
+// percolate, optionally decimated, and measured (porosity, specific surface, local thickness
+// of wall and pore). Everything is computed here; the caller only writes.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "grid/field.h"
+#include "mesh/decimate.h"
+#include "mesh/part.h"
+#include "mesh/scaffold.h"
+
+namespace cmcsurf {
+
+struct ScaffoldDesign {
+  double porosity = 0.7;                   // target: 1 - solid volume / box volume
+  SolidKind solid = SolidKind::kNetwork;   // network or sheet
+  double cell_size = 2.0;                  // output units
+  Vec3 size{10.0, 10.0, 10.0};             // the box, output units
+  std::string units = "mm";
+  bool keep_fragments = false;
+  double porosity_tol = 1e-4;  // the sheet's thickness (or a network's level) is solved to this
+  DecimateParams decimate;     // no budget and no tolerance: no decimation
+  double min_feature = 0.0;    // warn when the thinnest wall or pore is below (0: no check)
+  bool morphometry = true;
+};
+
+// The member the design needs: a network's solid is phase 1 at volume fraction 1 - porosity;
+// a sheet is the wall around the alpha = 1/2 surface.
+double member_volume_fraction(const ScaffoldDesign& d);
+
+// The pore space does not connect some pair of opposite box faces.
+struct ClosedCellError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct ScaffoldPart {
+  TriMesh mesh;
+  nlohmann::json report;   // every number, with the time of each stage
+  std::vector<std::string> warnings;
+};
+
+// phi: the member's field (whole grid, ghost >= 1). Throws std::invalid_argument on a design
+// out of range and ClosedCellError on a closed-cell part (nothing to write).
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d);
+
+}  // namespace cmcsurf
