@@ -16,5 +16,6 @@ CommandFn add_sweep_command(CLI::App& root);   // apps/cmd_sweep.cpp
 CommandFn add_mesh_command(CLI::App& root);    // apps/cmd_mesh.cpp
 CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
 CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp
+CommandFn add_scaffold_command(CLI::App& root);  // apps/cmd_scaffold.cpp
 
 }  // namespace cmcsurf::cli

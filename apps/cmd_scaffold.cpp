@@ -1,0 +1,281 @@
+// cmcsurf scaffold: design targets in (surface, porosity, solid, cell size, box), a clean
+// printable part out (docs/scaffolds.md). The CMC member is computed, or reused from a cache
+// folder keyed by its run parameters.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "io/atomic_file.h"
+#include "io/json_file.h"
+#include "io/mesh_output.h"
+#include "io/run_report.h"
+#include "io/vti.h"
+#include "mesh/scaffold_part.h"
+#include "mesh_options.h"
+#include "run_control.h"
+
+namespace cmcsurf::cli {
+
+namespace {
+
+// About 5 GB of lattice (value, label, mark) before the mesh.
+constexpr double kMaxPartNodes = 5.4e8;
+
+struct ScaffoldCommand {
+  RunParams params;
+  RunOptionStrings strings;
+  std::string surface = "G";
+  double porosity = -1.0;
+  std::string solid = "network";
+  double cell_size = 2.0;
+  std::string size = "10";
+  std::string units = "mm";
+  std::string format;
+  std::string out;
+  std::string cache;
+  bool keep_fragments = false;
+  long max_triangles = 0;
+  double tolerance = 0.0;
+  double min_feature = 0.0;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// "AxBxC" or "A" in output units, each > 0.
+Vec3 parse_size(const std::string& s) {
+  const auto bad = [&] {
+    return UsageError(fmt::format("--size: got '{}'; accepted: AxBxC or A, numbers > 0 and <= 1e6 "
+                                  "in --units", s));
+  };
+  std::vector<double> parts;
+  std::size_t pos = 0;
+  for (;;) {
+    const std::size_t x = s.find('x', pos);
+    const std::string part = s.substr(pos, x == std::string::npos ? std::string::npos : x - pos);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !(v > 0) || v > 1e6) throw bad();
+    parts.push_back(v);
+    if (x == std::string::npos) break;
+    pos = x + 1;
+  }
+  if (parts.size() == 1) return {parts[0], parts[0], parts[0]};
+  if (parts.size() != 3) throw bad();
+  return {parts[0], parts[1], parts[2]};
+}
+
+std::filesystem::path default_cache() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::filesystem::path(xdg) / "cmcsurf";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::filesystem::path(home) / ".cache" / "cmcsurf";
+  return std::filesystem::temp_directory_path() / "cmcsurf-cache";
+}
+
+// FNV-1a of the run parameters' JSON: the cache key.
+std::uint64_t parameters_hash(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+// The member's field: from the cache when a finished entry has the same run parameters,
+// otherwise computed (with progress) and stored there (field.vti, then member.json).
+Field member_field(const ScaffoldCommand& cmd, const std::filesystem::path& cache,
+                   nlohmann::json& about) {
+  const RunParams& p = cmd.params;
+  const nlohmann::json params = params_json(p);
+  const std::string name = p.surface.rfind("expr:", 0) == 0 ? "expr" : p.surface;
+  const std::filesystem::path dir =
+      cache / fmt::format("{}-a{:.4f}-n{}-{:016x}", name, p.volume_fraction, p.grid,
+                          parameters_hash(params.dump()));
+  about = {{"cache", dir.string()}, {"parameters", params}};
+  if (std::filesystem::is_regular_file(dir / "member.json") &&
+      std::filesystem::is_regular_file(dir / "field.vti")) {
+    const nlohmann::json saved = read_json_file(dir / "member.json");
+    if (saved.value("parameters", nlohmann::json()) == params) {
+      about["reused"] = true;
+      about["run"] = saved.value("run", nlohmann::json());
+      if (!cmd.quiet) std::cerr << fmt::format("reusing the member in {}\n", dir.string());
+      return load_phi(dir.string(), "--cache");
+    }
+  }
+  if (!cmd.quiet)
+    std::cerr << fmt::format("computing the member: surface {} alpha {:g} N {} (cached in {})\n",
+                             p.surface, p.volume_fraction, p.grid, dir.string());
+  Progress progress(cmd.quiet);
+  RunResult r = run_cmc(p, RunContext([&](const StepRecord& s) { progress.step(s); }));
+  progress.finish();
+  const nlohmann::json run = run_report(p, r, apply_threads(0));
+  ensure_directory(dir);
+  write_vti(dir / "field.vti", {{"phi", &r.phi}}, false, {{"surface", p.surface}});
+  write_json_atomic(dir / "member.json", {{"parameters", params}, {"run", run}});
+  about["reused"] = false;
+  about["run"] = run;
+  return std::move(r.phi);
+}
+
+int run_scaffold(ScaffoldCommand& cmd) {
+  // Everything is checked before anything is computed or written.
+  cmd.params.surface = cmd.surface;
+  if (!(cmd.porosity > 0.0 && cmd.porosity < 1.0))
+    throw UsageError(fmt::format("--porosity: got {}; accepted: 0 < porosity < 1", cmd.porosity));
+  ScaffoldDesign d;
+  d.porosity = cmd.porosity;
+  if (cmd.solid == "network") d.solid = SolidKind::kNetwork;
+  else if (cmd.solid == "sheet") d.solid = SolidKind::kSheet;
+  else throw UsageError(fmt::format("--solid: got '{}'; accepted: network|sheet", cmd.solid));
+  if (!(cmd.cell_size > 0) || !std::isfinite(cmd.cell_size) || cmd.cell_size > 1e6)
+    throw UsageError(fmt::format("--cell-size: got {}; accepted: > 0 and <= 1e6", cmd.cell_size));
+  d.cell_size = cmd.cell_size;
+  d.size = parse_size(cmd.size);
+  if (!is_mesh_unit(cmd.units))
+    throw UsageError(fmt::format("--units: got '{}'; accepted: {}", cmd.units, mesh_units_list()));
+  d.units = cmd.units;
+  d.keep_fragments = cmd.keep_fragments;
+  if (cmd.max_triangles < 0)
+    throw UsageError(fmt::format("--max-triangles: got {}; accepted: >= 1 (0: no budget)", cmd.max_triangles));
+  d.decimate.max_triangles = std::size_t(cmd.max_triangles);
+  if (!(cmd.tolerance >= 0) || !std::isfinite(cmd.tolerance))
+    throw UsageError(fmt::format("--tolerance: got {}; accepted: >= 0 in --units", cmd.tolerance));
+  d.decimate.tolerance = cmd.tolerance;
+  if (!(cmd.min_feature >= 0) || !std::isfinite(cmd.min_feature))
+    throw UsageError(fmt::format("--min-feature: got {}; accepted: >= 0 in --units", cmd.min_feature));
+  d.min_feature = cmd.min_feature;
+  cmd.params.volume_fraction = member_volume_fraction(d);
+  finish_run_options(cmd.params, cmd.strings, true);
+  const double h = d.cell_size / cmd.params.grid;
+  double nodes = 1.0;
+  for (int c = 0; c < 3; ++c) {
+    if (d.size[c] / h > 8192 || d.size[c] / h < 2)
+      throw UsageError(fmt::format(
+          "--size: {} {} is {:.0f} grid spacings (--cell-size / --grid = {:.4g}); accepted: 2 .. "
+          "8192", d.size[c], d.units, d.size[c] / h, h));
+    nodes *= std::ceil(d.size[c] / h);
+  }
+  if (nodes > kMaxPartNodes)
+    throw UsageError(fmt::format(
+        "--size: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
+        "at most {:.3g} (about 9 bytes each, plus the mesh): a smaller box or --grid",
+        nodes, h, d.units, kMaxPartNodes));
+  MeshPlan plan;
+  plan.out = cmd.out;
+  try {
+    plan.format = mesh_output_format(cmd.format, plan.out);
+  } catch (const OptionError& e) {
+    throw UsageError(e.what());
+  }
+  plan.params.units = d.units;
+  const std::filesystem::path cache = cmd.cache.empty() ? default_cache() : std::filesystem::path(cmd.cache);
+  if (std::filesystem::exists(cache) && !std::filesystem::is_directory(cache))
+    throw UsageError(fmt::format("--cache: '{}' exists and is not a directory", cache.string()));
+  const int threads = apply_threads(cmd.threads);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  nlohmann::json member;
+  const Field phi = member_field(cmd, cache, member);
+  const double member_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ScaffoldPart part;
+  try {
+    part = design_scaffold(phi, d);
+  } catch (const ClosedCellError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  const nlohmann::json& r = part.report;
+  plan.meta.title = fmt::format("cmcsurf {} {} scaffold", cmd.surface, cmd.solid);
+  plan.meta.description = fmt::format(
+      "surface={}; solid={}; porosity={:.4f} (target {}); cell_size={} {}; size={}x{}x{} {}{}",
+      cmd.surface, cmd.solid, r["porosity"].get<double>(), d.porosity, d.cell_size, d.units,
+      d.size[0], d.size[1], d.size[2], d.units,
+      d.solid == SolidKind::kSheet
+          ? fmt::format("; thickness={:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
+          : "");
+  member["seconds"] = member_seconds;
+  write_mesh_with_report(part.mesh, part.report, plan,
+                         {{"member", member}, {"threads", threads},
+                          {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
+  if (!cmd.quiet) {
+    const auto& m = r["morphometry"];
+    const auto& t = r["topology"];
+    std::cerr << fmt::format(
+        "{} {} scaffold, {}x{}x{} {}: porosity {:.4f} (target {}, error {:+.1e}){}\n"
+        "{} triangles, {}, {}; {} fragments removed ({:.3g} {}^3); pores percolate x y z\n",
+        cmd.surface, cmd.solid, d.size[0], d.size[1], d.size[2], d.units,
+        r["porosity"].get<double>(), d.porosity, r["porosity_error"].get<double>(),
+        d.solid == SolidKind::kSheet
+            ? fmt::format(", wall thickness {:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
+            : "",
+        r["triangles"].get<long>(), r["checks"]["closed"].get<bool>() ? "closed" : "OPEN",
+        r["checks"]["manifold"].get<bool>() ? "manifold" : "NOT manifold",
+        t["fragments_removed"].get<bool>() ? t["fragments"].get<long>() : 0,
+        t["fragments_removed"].get<bool>() ? t["fragment_volume"].get<double>() : 0.0, d.units);
+    if (m.contains("wall_thickness"))
+      std::cerr << fmt::format(
+          "specific surface {:.4g} 1/{}; wall thickness mean {:.4g} min {:.4g} {}; pore size mean "
+          "{:.4g} min {:.4g} {}\n",
+          m["specific_surface"].get<double>(), d.units, m["wall_thickness"]["mean"].get<double>(),
+          m["wall_thickness"]["min"].get<double>(), d.units, m["pore_size"]["mean"].get<double>(),
+          m["pore_size"]["min"].get<double>(), d.units);
+    if (r.contains("decimation"))
+      std::cerr << fmt::format("decimated {} -> {} triangles (error {:.3g} {}, volume {:+.2e})\n",
+                               r["decimation"]["triangles_before"].get<long>(),
+                               r["decimation"]["triangles_after"].get<long>(),
+                               r["decimation"]["error"].get<double>(), d.units,
+                               r["decimation"]["volume_change"].get<double>());
+    std::cerr << fmt::format("wrote {} ({} bytes) and {}.json\n", plan.out.string(),
+                             std::filesystem::file_size(plan.out), plan.out.string());
+  }
+  for (const std::string& w : part.warnings) std::cerr << "warning: " << w << "\n";
+  return 0;
+}
+
+}  // namespace
+
+CommandFn add_scaffold_command(CLI::App& root) {
+  auto cmd = std::make_shared<ScaffoldCommand>();
+  CLI::App* app = root.add_subcommand(
+      "scaffold",
+      "A printable scaffold from design targets: computes (or reuses from the cache) the CMC "
+      "member, trims the lattice to the box, solves a sheet's wall thickness for the porosity, "
+      "removes fragments, checks that the pores percolate, measures wall and pore sizes, and "
+      "writes FILE with FILE.json\nExample: cmcsurf scaffold --surface G --porosity 0.7 --solid "
+      "sheet --cell-size 2 --size 10x10x20 --units mm --grid 32 --fast --out part.3mf");
+  app->add_option("--surface", cmd->surface, "Surface family: P, D, G, ... (see `cmcsurf surfaces`)")
+      ->capture_default_str();
+  app->add_option("--porosity", cmd->porosity, "Target porosity of the part: 1 - solid / box volume, in (0, 1)")
+      ->required();
+  app->add_option("--solid", cmd->solid,
+                  "network (the region on one side of the CMC surface at volume fraction 1 - "
+                  "porosity) or sheet (a wall around the alpha = 1/2 surface, its thickness "
+                  "solved for the porosity)")
+      ->capture_default_str();
+  app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")->capture_default_str();
+  app->add_option("--size", cmd->size, "The part's box AxBxC (or A) in --units; any size, the lattice is trimmed and capped")
+      ->capture_default_str();
+  app->add_option("--units", cmd->units, std::string("Length unit: ") + mesh_units_list())->capture_default_str();
+  app->add_option("--format", cmd->format, std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");
+  app->add_option("--out", cmd->out, "Output mesh file (a report goes to FILE.json)")->required();
+  app->add_option("--cache", cmd->cache,
+                  "Folder of computed members, keyed by their run parameters (default: "
+                  "$XDG_CACHE_HOME/cmcsurf or ~/.cache/cmcsurf)");
+  app->add_flag("--keep-fragments", cmd->keep_fragments, "Keep the pieces the box cuts off the solid");
+  app->add_option("--max-triangles", cmd->max_triangles, "Decimate to at most this many triangles (meshoptimizer)");
+  app->add_option("--tolerance", cmd->tolerance, "Decimate within this error, in --units");
+  app->add_option("--min-feature", cmd->min_feature,
+                  "Warn when the thinnest wall or narrowest pore is below this (the printer's resolution), in --units");
+  add_run_options(*app, cmd->params, cmd->strings, false);
+  add_threads_option(*app, cmd->threads);
+  app->add_flag("--quiet", cmd->quiet, "No progress or summary output");
+  return {app, [cmd]() -> int { return run_scaffold(*cmd); }};
+}
+
+}  // namespace cmcsurf::cli

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# cmcsurf scaffold: bad input exits 2, names the option, and writes nothing (no member is
+# computed either: the cache stays empty).
+source "$(dirname "$0")/usage.bash"
+s=(scaffold --grid 16 --cache "$work/cache")
+check_usage a.stl --porosity "${s[@]}" --porosity 1.5
+check_usage b.stl --porosity "${s[@]}" --porosity 0
+check_usage c.stl --solid "${s[@]}" --porosity 0.7 --solid surface
+check_usage d.stl --size "${s[@]}" --porosity 0.7 --size 0x1x1
+check_usage e.stl --size "${s[@]}" --porosity 0.7 --size 2x2
+check_usage f.stl --cell-size "${s[@]}" --porosity 0.7 --cell-size -1
+check_usage g.stl --units "${s[@]}" --porosity 0.7 --units furlong
+check_usage h.xyz --format "${s[@]}" --porosity 0.7
+check_usage i.stl --grid "${s[@]}" --porosity 0.7 --grid 13
+check_usage j.stl --tolerance "${s[@]}" --porosity 0.7 --tolerance -1
+check_usage k.stl --surface "${s[@]}" --porosity 0.7 --surface nosuch
+check_usage l.stl --size "${s[@]}" --porosity 0.7 --size 1000
+if [ -e "$work/cache" ]; then echo "FAIL: a member was computed for bad input"; fail=1; fi
+[ "$fail" -eq 0 ] && echo "scaffold_bad_options: all passed"
+exit "$fail"

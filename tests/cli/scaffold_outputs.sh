@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# cmcsurf scaffold (docs/scaffolds.md): network and sheet parts in one command, the member
+# cache, the report's checks, a deflated 3MF, the closed-cell refusal; and graded's --help
+# example, whose members' measured fractions straddle their targets (issue 17, item 5).
+set -u
+bin="$1"
+export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+check() { if ! "$@"; then echo "FAIL: $*"; fail=1; fi; }
+json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3"; fail=1; }; }
+common=(--grid 16 --cell-size 2 --units mm --cache "$work/cache" --quiet)
+
+"$bin" scaffold --surface G --porosity 0.7 --solid network --size 5x4x3 "${common[@]}" \
+  --out "$work/net.3mf" || { echo "FAIL: scaffold network"; fail=1; }
+check test -s "$work/net.3mf"
+json_has "$work/net.3mf.json" closed true
+json_has "$work/net.3mf.json" manifold true
+json_has "$work/net.3mf.json" x true
+json_has "$work/net.3mf.json" closed_pores 0
+check test "$(ls "$work/cache")" != ""
+# The same member again: reused, not recomputed.
+"$bin" scaffold --surface G --porosity 0.7 --solid network --size 4 --grid 16 --cell-size 2 \
+  --cache "$work/cache" --out "$work/again.stl" 2>"$work/again.txt" || fail=1
+check grep -q "reusing the member" "$work/again.txt"
+json_has "$work/again.stl.json" reused true
+"$bin" scaffold --surface P --porosity 0.6 --solid sheet --size 4x4x5 "${common[@]}" \
+  --min-feature 5 --out "$work/sheet.stl" 2>"$work/sheet.txt" || { echo "FAIL: scaffold sheet"; fail=1; }
+json_has "$work/sheet.stl.json" closed true
+check grep -q '"thickness":' "$work/sheet.stl.json"
+check grep -q "below --min-feature" "$work/sheet.txt"
+python3 - "$work" <<'PY' || { echo "FAIL: report values"; fail=1; }
+import json, sys, zipfile
+w = sys.argv[1]
+for name, target in (("net.3mf", 0.7), ("sheet.stl", 0.6)):
+    r = json.load(open(f"{w}/{name}.json"))
+    assert abs(r["porosity"] - target) <= 1e-3, (name, r["porosity"])
+    assert r["topology"]["solid_components"] - (r["topology"]["fragments"]) == 1, r["topology"]
+    m = r["morphometry"]
+    assert 0 < m["wall_thickness"]["min"] <= m["wall_thickness"]["mean"], m["wall_thickness"]
+    assert 0 < m["pore_size"]["min"] <= m["pore_size"]["mean"], m["pore_size"]
+z = zipfile.ZipFile(f"{w}/net.3mf")
+assert z.testzip() is None
+info = z.getinfo("3D/3dmodel.model")
+assert info.compress_type == zipfile.ZIP_DEFLATED and info.compress_size < info.file_size / 3, info
+model = z.read("3D/3dmodel.model").decode()
+assert all(s in model for s in ('unit="millimeter"', "<build", "<item ", 'name="Description"')), model[:600]
+PY
+# A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written.
+"$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
+  --out "$work/closed.stl" 2>"$work/closed.txt"
+rc=$?
+check test "$rc" -eq 1
+check grep -q "closed-cell" "$work/closed.txt"
+check test ! -e "$work/closed.stl"
+check test ! -e "$work/closed.stl.json"
+
+# graded --help's example with members computed for 0.3 .. 0.6 (fractions within 1e-4).
+for a in 30 40 50 60; do
+  "$bin" run --surface G --grid 16 --volume-fraction "0.$a" --quiet --no-report --no-preview \
+    --out "$work/g$a" || { echo "FAIL: run 0.$a"; fail=1; }
+done
+(cd "$work" && "$bin" graded --members g30,g40,g50,g60 --axis z --from-fraction 0.3 \
+  --to-fraction 0.6 --tile 2x2x6 --cell-size 2.5 --solid network --out graded.stl --quiet) \
+  || { echo "FAIL: graded --help example"; fail=1; }
+json_has "$work/graded.stl.json" closed true
+if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+[ "$fail" -eq 0 ] && echo "scaffold_outputs: all passed"
+exit "$fail"
