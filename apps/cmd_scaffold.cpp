@@ -268,8 +268,8 @@ CommandFn add_scaffold_command(CLI::App& root) {
                   "Folder of computed members, keyed by their run parameters (default: "
                   "$XDG_CACHE_HOME/cmcsurf or ~/.cache/cmcsurf)");
   app->add_flag("--keep-fragments", cmd->keep_fragments, "Keep the pieces the box cuts off the solid");
-  app->add_option("--max-triangles", cmd->max_triangles, "Decimate to at most this many triangles (meshoptimizer)");
-  app->add_option("--tolerance", cmd->tolerance, "Decimate within this error, in --units");
+  app->add_option("--max-triangles", cmd->max_triangles, "Decimate to at most this many triangles (OpenMesh, keeping the solid closed, manifold, one piece)");
+  app->add_option("--tolerance", cmd->tolerance, "Decimate as far as the surface moves at most this, in --units");
   app->add_option("--min-feature", cmd->min_feature,
                   "Warn when the thinnest wall or narrowest pore is below this (the printer's resolution), in --units");
   add_run_options(*app, cmd->params, cmd->strings, false);

@@ -9,7 +9,7 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           zlib1g-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy
           admesh libopenmpi-dev openmpi-bin
           # Scaffolds (docs/scaffolds.md): 3MF files and mesh decimation.
-          lib3mf-dev libmeshoptimizer-dev
+          lib3mf-dev libopenmesh-dev
           # The Python module (python/, docs/python.md) and its tests and examples.
           pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
           python3-setuptools python3-wheel python3-pip python3-venv

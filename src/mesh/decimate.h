@@ -1,7 +1,9 @@
-// Mesh-size control for printed parts (docs/scaffolds.md): edge-collapse decimation by
-// meshoptimizer (Debian libmeshoptimizer-dev 0.18, meshopt_simplify: quadric error,
-// topology-preserving collapses), accepted only while the solid stays closed, manifold, one
-// piece, with its volume within a tolerance; otherwise the budget is relaxed and it retries.
+// Mesh-size control for printed parts (docs/scaffolds.md): quadric edge-collapse decimation by
+// OpenMesh's decimater (Debian libopenmesh-dev), which refuses collapses that would break the
+// manifold (link condition) and, with a tolerance, those that move the surface further than it
+// (Hausdorff module). The flat caps on the box faces are kept. A result is accepted only while
+// the solid stays closed, manifold, as many pieces, with its volume within a tolerance;
+// otherwise the budget is relaxed (or the tolerance halved) and it retries.
 #pragma once
 
 #include <cstddef>
@@ -21,7 +23,7 @@ struct DecimateParams {
 struct Decimated {
   TriMesh mesh;
   std::size_t triangles_before = 0, triangles_after = 0;
-  double error = 0.0;          // meshoptimizer's error estimate achieved, mesh units
+  double error = 0.0;          // largest distance from the input's vertices to the result
   double volume_change = 0.0;  // relative
   int attempts = 0;
   bool applied = false;        // false: no attempt passed the checks; mesh is the input

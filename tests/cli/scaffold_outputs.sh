@@ -47,6 +47,14 @@ assert info.compress_type == zipfile.ZIP_DEFLATED and info.compress_size < info.
 model = z.read("3D/3dmodel.model").decode()
 assert all(s in model for s in ('unit="millimeter"', "<build", "<item ", 'name="Description"')), model[:600]
 PY
+# Decimation to a budget: applied, within it, still a closed manifold.
+"$bin" scaffold --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" --max-triangles 20000 \
+  --out "$work/small.stl" || { echo "FAIL: scaffold --max-triangles"; fail=1; }
+json_has "$work/small.stl.json" applied true
+json_has "$work/small.stl.json" within_budget true
+json_has "$work/small.stl.json" closed true
+json_has "$work/small.stl.json" manifold true
+check test "$(stat -c %s "$work/small.stl")" -le $((84 + 50 * 20000))
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written.
 "$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
