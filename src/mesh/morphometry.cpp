@@ -10,6 +10,9 @@ namespace cmcsurf {
 namespace {
 
 constexpr double kFar = 1e20;
+// Ball radii closer than this (voxels) are merged to the larger: diameters are exact for radii
+// up to about 2.5 voxels and at most 2 kRadiusStep short beyond.
+constexpr double kRadiusStep = 0.125;
 
 // Squared distance transform of one line of sampled function f (Felzenszwalb & Huttenlocher
 // 2012, Algorithm 1): d(q) = min_p (q - p)^2 + f(p).
@@ -80,48 +83,34 @@ std::vector<double> periodic_edt2(const std::vector<std::uint8_t>& inside, int n
 }
 
 std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n) {
-  const std::vector<double> r2 = periodic_edt2(inside, n);
-  const std::size_t cells = r2.size();
-  auto id = [n](int i, int j, int k) {
-    auto w = [n](int x) { return ((x % n) + n) % n; };
-    return (std::size_t(w(k)) * n + w(j)) * n + w(i);
-  };
-  // Centres whose ball no neighbour's ball contains (|q - c| + r_c <= r_q).
-  std::vector<std::size_t> centres;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const std::size_t c = id(i, j, k);
-        if (!inside[c]) continue;
-        const double rc = std::sqrt(r2[c]);
-        bool contained = false;
-        for (int dk = -1; dk <= 1 && !contained; ++dk)
-          for (int dj = -1; dj <= 1 && !contained; ++dj)
-            for (int di = -1; di <= 1 && !contained; ++di) {
-              if (!(di || dj || dk)) continue;
-              const double rq = std::sqrt(r2[id(i + di, j + dj, k + dk)]);
-              contained = rq >= rc + std::sqrt(double(di * di + dj * dj + dk * dk));
-            }
-        if (!contained) centres.push_back(c);
-      }
-  std::sort(centres.begin(), centres.end(),
-            [&](std::size_t a, std::size_t b) { return r2[a] > r2[b]; });
+  const std::vector<double> d2 = periodic_edt2(inside, n);
+  const std::size_t cells = d2.size();
+  // Ball radii: the distinct distances that occur, thinned to steps of at least kRadiusStep.
+  std::vector<double> radii;
+  for (std::size_t c = 0; c < cells; ++c)
+    if (inside[c]) radii.push_back(std::sqrt(std::min(d2[c], double(n) * n)));
+  std::sort(radii.begin(), radii.end(), std::greater<>());
+  radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
+  std::vector<double> kept;
+  for (double r : radii)
+    if (kept.empty() || kept.back() - r >= kRadiusStep) kept.push_back(r);
+  // Largest first: x lies in a ball of radius r inside the phase iff it is closer than r to a
+  // centre whose own distance is >= r (the opening by that ball).
   std::vector<double> t(cells, 0.0);
-  for (const std::size_t c : centres) {
-    const int i = int(c % n), j = int(c / n % n), k = int(c / (std::size_t(n) * n));
-    const double r = std::sqrt(std::min(r2[c], double(n) * n));
-    const double diameter = 2.0 * r - 1.0;
-    const int b = int(std::ceil(r));
-    for (int dk = -b; dk <= b; ++dk)
-      for (int dj = -b; dj <= b; ++dj)
-        for (int di = -b; di <= b; ++di) {
-          if (double(di * di + dj * dj + dk * dk) >= r2[c]) continue;
-          double& x = t[id(i + di, j + dj, k + dk)];
-          x = std::max(x, diameter);
-        }
+  std::vector<std::uint8_t> not_centre(cells);
+  std::size_t left = std::count(inside.begin(), inside.end(), std::uint8_t(1));
+  for (double r : kept) {
+    if (left == 0) break;
+    for (std::size_t c = 0; c < cells; ++c) not_centre[c] = !(inside[c] && d2[c] >= r * r - 1e-9);
+    const std::vector<double> to_centre = periodic_edt2(not_centre, n);
+    for (std::size_t c = 0; c < cells; ++c)
+      if (inside[c] && t[c] == 0.0 && to_centre[c] < r * r - 1e-9) {
+        t[c] = std::max(1.0, 2.0 * r - 1.0);
+        --left;
+      }
   }
   for (std::size_t c = 0; c < cells; ++c)
-    if (inside[c]) t[c] = std::max(t[c], 1.0);  // a voxel is at least one voxel thick
+    if (inside[c] && t[c] == 0.0) t[c] = 1.0;  // a voxel is at least one voxel thick
   return t;
 }
 

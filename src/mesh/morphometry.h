@@ -2,8 +2,9 @@
 // periodic unit cell, as bone morphometry's "local thickness" (Hildebrand & Ruegsegger 1997):
 // at each voxel of a phase, the diameter of the largest ball inside the phase that contains
 // it. Written here: an exact squared Euclidean distance transform (Felzenszwalb & Huttenlocher's
-// separable lower envelope of parabolas, periodic), then balls from the centres no
-// neighbour's ball contains, painted largest first.
+// separable lower envelope of parabolas, periodic), then, largest radius first, the opening of
+// the phase by a ball of that radius as one more transform (the distance to the centres deep
+// enough for it): a voxel's thickness is the first radius whose opening holds it.
 #pragma once
 
 #include <functional>
@@ -21,8 +22,9 @@ namespace cmcsurf {
 std::vector<double> periodic_edt2(const std::vector<std::uint8_t>& inside, int n);
 
 // Local thickness in voxels at every voxel of the phase (0 outside): the largest 2 r - 1 over
-// the balls of radius r = sqrt(edt2(c)) around the phase's voxels c that contain it (|x - c|
-// < r). The "- 1" counts the voxel centres a ball spans, so that a slab m voxels thick gets m.
+// the balls of radius r <= sqrt(edt2(c)) around the phase's voxels c that contain it
+// (|x - c| < r), r from the distances that occur, in steps of at least 1/8 voxel. The "- 1"
+// counts the voxel centres a ball spans, so that a slab m voxels thick gets m (m odd).
 std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n);
 
 struct ThicknessStats {

@@ -123,7 +123,7 @@ TriMesh mesh_window(const PartLattice& lat, const std::array<int, 3>& lo,
 }  // namespace
 
 PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
-                        const std::function<double(double)>& transform) {
+                        const std::function<double(double)>& transform, int refine) {
   if (!(cell_size > 0) || !std::isfinite(cell_size))
     throw std::invalid_argument(fmt::format("part: cell size {} must be > 0", cell_size));
   const int n = g.n();
@@ -132,7 +132,7 @@ PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
   for (int c = 0; c < 3; ++c) {
     if (!(size[c] > 0) || !std::isfinite(size[c]))
       throw std::invalid_argument(fmt::format("part: box size {} must be > 0", size[c]));
-    const double nodes = std::ceil(size[c] / h - 1e-9);
+    const double nodes = std::ceil(size[c] / h - 1e-9) * std::max(1, refine);
     if (nodes < 2 || nodes > kMaxNodesPerAxis)
       throw std::invalid_argument(fmt::format(
           "part: the box edge {} is {} grid spacings (cell size / N = {:.4g}); accepted: 2 .. {}",

@@ -33,12 +33,12 @@ struct PartLattice {
 };
 
 // Samples g (cell-centred on a periodic unit cell of grid n, any ghost width) on a box of
-// `size` output units with unit cells of edge `cell_size`: ceil(size / h) nodes per axis
-// (h = cell_size / n), spacing size / nodes, periodic trilinear interpolation (the cell values
-// themselves where size is a whole number of h), a = transform(g). Throws
-// std::invalid_argument on a size or cell size out of range.
+// `size` output units with unit cells of edge `cell_size`: refine * ceil(size / h) nodes per
+// axis (h = cell_size / n), spacing size / nodes, periodic trilinear interpolation (the cell
+// values themselves where size is a whole number of h and refine is 1), a = transform(g).
+// Throws std::invalid_argument on a size or cell size out of range.
 PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
-                        const std::function<double(double)>& transform);
+                        const std::function<double(double)>& transform, int refine = 1);
 
 // Connected components of the solid and of the pore space. Both are found on the nodes along
 // the edges of the Kuhn tetrahedra (14 neighbours): within a tetrahedron the part of a linear

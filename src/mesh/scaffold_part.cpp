@@ -13,6 +13,8 @@ namespace cmcsurf {
 namespace {
 
 constexpr int kMaxSolveIterations = 12;
+// Voxels per cell edge for the local thickness, at least: a 0.1-cell wall is 6 voxels.
+constexpr int kMorphometryGrid = 64;
 // A network part misses its porosity only through the box trimming the lattice (a few 1e-4
 // for whole cells); past this its level is shifted to hit the target.
 constexpr double kNetworkPorosityTol = 1e-3;
@@ -190,21 +192,23 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
   double morph_seconds = 0.0;
   if (d.morphometry) {
     t0 = std::chrono::steady_clock::now();
-    const std::size_t cells = std::size_t(n) * n * n;
-    std::vector<std::uint8_t> solid(cells), pore(cells);
-    for_each_cell(n, [&](int i, int j, int k) {
-      const std::size_t id = (std::size_t(k) * n + j) * n + i;
-      solid[id] = transform((*g)(i, j, k)) > e.level;
+    // One unit cell at >= kMorphometryGrid voxels per edge (the field interpolated).
+    const int refine = (kMorphometryGrid + n - 1) / n, m = n * refine;
+    const PartLattice cell = sample_part(*g, {d.cell_size, d.cell_size, d.cell_size}, d.cell_size,
+                                         transform, refine);
+    std::vector<std::uint8_t> solid(cell.count()), pore(cell.count());
+    for (std::size_t id = 0; id < cell.count(); ++id) {
+      solid[id] = cell.a[id] > float(e.level);
       pore[id] = !solid[id];
-    });
-    const double voxel = d.cell_size / n;
-    const ThicknessStats wall = thickness_stats(local_thickness(solid, n), solid, voxel);
-    const ThicknessStats pores = thickness_stats(local_thickness(pore, n), pore, voxel);
+    }
+    const double voxel = d.cell_size / m;
+    const ThicknessStats wall = thickness_stats(local_thickness(solid, m), solid, voxel);
+    const ThicknessStats pores = thickness_stats(local_thickness(pore, m), pore, voxel);
     morph["wall_thickness"] = thickness_json(wall, d.units);
     morph["pore_size"] = thickness_json(pores, d.units);
     morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
-                      "periodic unit cell's N^3 voxels, exact Euclidean distance transform; "
-                      "diameters, within one voxel";
+                      "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
+                      "Euclidean distance transform; diameters, within one voxel";
     morph["voxel"] = voxel;
     morph_seconds = seconds_since(t0);
     if (d.min_feature > 0) {

@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Pictures of a `cmcsurf scaffold` part for docs/scaffolds.md.
+
+usage: plot_scaffold.py PART.stl OUT.png
+
+(a), (b): the part cut by the planes z and x at 0.4 of the box (the binary STL's
+triangles intersected with the plane, drawn as segments; the solid is on one side of them),
+(c): the wall-thickness and pore-size distributions of PART.stl.json (local thickness on the
+unit cell, `morphometry`). Draws what cmcsurf computed; computes nothing of its own beyond
+the plane cuts. Exit code 3 when matplotlib or numpy is missing.
+"""
+import json
+import struct
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+    import numpy as np
+except ImportError as e:  # pragma: no cover
+    print(f"plot_scaffold: {e}", file=sys.stderr)
+    sys.exit(3)
+
+
+def read_stl(path):
+    with open(path, "rb") as f:
+        f.read(80)
+        (count,) = struct.unpack("<I", f.read(4))
+        data = np.frombuffer(f.read(50 * count), dtype=np.uint8).reshape(count, 50)
+    return data[:, 12:48].copy().view("<f4").reshape(count, 3, 3).astype(np.float64)
+
+
+def cut(tri, axis, value):
+    """Segments where the triangles cross the plane x[axis] = value, in the other two axes."""
+    d = tri[:, :, axis] - value
+    side = d > 0
+    crossing = side.any(axis=1) & ~side.all(axis=1)
+    tri, d = tri[crossing], d[crossing]
+    other = [c for c in range(3) if c != axis]
+    segments = []
+    for t, s in zip(tri, d):
+        points = []
+        for a, b in ((0, 1), (1, 2), (2, 0)):
+            if (s[a] > 0) != (s[b] > 0):
+                w = s[a] / (s[a] - s[b])
+                p = t[a] + w * (t[b] - t[a])
+                points.append(p[other])
+        if len(points) == 2:
+            segments.append(points)
+    return np.array(segments), other
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    part, out = sys.argv[1], sys.argv[2]
+    report = json.load(open(part + ".json"))
+    tri = read_stl(part)
+    lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+    units = report["units"] if "units" in report else report["design"]["units"]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+    names = "xyz"
+    for ax, axis in zip(axes[:2], (2, 0)):
+        mid = lo[axis] + 0.4 * (hi[axis] - lo[axis])  # off the lattice's mirror planes
+        segments, other = cut(tri, axis, mid)
+        ax.add_collection(LineCollection(segments, linewidths=0.6, colors="k"))
+        ax.set_xlim(lo[other[0]], hi[other[0]])
+        ax.set_ylim(lo[other[1]], hi[other[1]])
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"{names[other[0]]} ({units})")
+        ax.set_ylabel(f"{names[other[1]]} ({units})")
+        ax.set_title(f"cut at {names[axis]} = {mid:.3g} {units}")
+    m = report["morphometry"]
+    ax = axes[2]
+    for key, label, color in (("wall_thickness", "wall thickness", "C0"), ("pore_size", "pore size", "C1")):
+        s = m[key]
+        edges = np.array(s["histogram_edges"])
+        ax.stairs(np.array(s["histogram"]), edges, color=color,
+                  label=f"{label}: mean {s['mean']:.3g}, min {s['min']:.3g} {units}")
+    ax.set_xlabel(f"local thickness ({units})")
+    ax.set_ylabel("fraction of the phase")
+    ax.legend()
+    d = report["design"]
+    fig.suptitle(f"{d['solid']} scaffold: porosity {report['porosity']:.4f} (target {d['porosity']}), "
+                 f"cell {d['cell_size']} {units}, specific surface {m['specific_surface']:.3g} 1/{units}")
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
