@@ -52,6 +52,13 @@ CommandFn add_mesh_command(CLI::App& root) {
                   r["checks"]["closed"].get<bool>() ? "closed" : "open",
                   r["checks"]["manifold"].get<bool>() ? "manifold" : "NOT manifold",
                   r["mesh_seconds"].get<double>(), plan.out.string(), plan.out.string());
+              if (r.contains("topology") && r["topology"]["fragments"].get<long>() > 0)
+                std::cerr << fmt::format(
+                    "{} {} fragments cut off by the box ({:.4g} {}^3){}\n",
+                    r["topology"]["fragments_removed"].get<bool>() ? "removed" : "kept",
+                    r["topology"]["fragments"].get<long>(),
+                    r["topology"]["fragment_volume"].get<double>(), plan.params.units,
+                    r["topology"]["fragments_removed"].get<bool>() ? " (--keep-fragments keeps them)" : "");
             }
             return 0;
           }};

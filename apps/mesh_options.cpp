@@ -36,6 +36,9 @@ void add_mesh_output_options(CLI::App& app, MeshOptionStrings& s, bool with_shee
       ->capture_default_str();
   app.add_flag("--other-phase", s.other_phase, "Use phase 0 (phi < 1/2) instead of phase 1");
   if (with_sheet)
+    app.add_flag("--keep-fragments", s.keep_fragments,
+                 "Solids: keep the pieces the box cuts off (default: removed and reported)");
+  if (with_sheet)
     app.add_option("--thickness", s.thickness, "Sheet wall thickness in output units");
   app.add_option("--format", s.format,
                  std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");

@@ -59,6 +59,7 @@ ScaffoldParams scaffold_params(const MeshOutputOptions& s, int n) {
     throw OptionError(fmt::format("--solid: {}", e.what()));
   }
   p.other_phase = s.other_phase;
+  p.keep_fragments = s.keep_fragments;
   if (p.solid == SolidKind::kSheet) {
     const double lo = s.cell_size / n, hi = 0.5 * s.cell_size;
     if (!(s.thickness >= lo && s.thickness <= hi))

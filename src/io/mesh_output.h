@@ -22,6 +22,7 @@ struct MeshOutputOptions {
   std::string units = "mm";
   std::string solid = "surface";
   bool other_phase = false;
+  bool keep_fragments = false;
   double thickness = 0.0;  // 0: not given
   std::string format;      // empty: from the extension of out
   std::string out;

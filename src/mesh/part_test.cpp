@@ -121,7 +121,9 @@ TEST(Part, PorosityHitsTheTargetForSheetAndNetwork) {
       expect_clean_solid(net.mesh);
       EXPECT_EQ(mesh_shell_count(net.mesh), 1u);
       EXPECT_EQ(net.report["topology"]["closed_pores"].get<int>(), 0);
-      if (size[0] == 2.0) EXPECT_EQ(net.report["solve"]["level"].get<double>(), 0.0);
+      if (size[0] == 2.0) {
+        EXPECT_EQ(net.report["solve"]["level"].get<double>(), 0.0);
+      }
     }
   }
 }

@@ -13,6 +13,7 @@
 #include "measure/measures.h"
 #include "measure/sharp_volume.h"
 #include "mesh/marching_tets.h"
+#include "mesh/part.h"
 
 namespace cmcsurf {
 
@@ -205,17 +206,28 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
   nlohmann::json extra;
   Scaffold out;
   Field dist;
-  if (p.solid == SolidKind::kSheet) {
-    const double half = 0.5 * p.thickness / p.cell_size;  // unit-cell units
-    if (!(half > 0 && half <= 0.25))
-      throw std::invalid_argument("sheet thickness must be in (0, cell size / 2]");
-    dist = signed_distance(phi, half + 3.0 / n);
-    out.mesh = mesh_tiled([&](int i, int j, int k) { return half - std::abs(dist(i % n, j % n, k % n)); },
-                          n, p.tiles, p.cell_size, 0.0, true);
+  PartTopology topology;
+  if (solid) {
+    // The tiles as a box of whole cells: the lattice holds the cell values themselves.
+    const Vec3 size{p.tiles[0] * p.cell_size, p.tiles[1] * p.cell_size, p.tiles[2] * p.cell_size};
+    PartLattice lat;
+    double level = 0.0;
+    if (p.solid == SolidKind::kSheet) {
+      const double half = 0.5 * p.thickness / p.cell_size;  // unit-cell units
+      if (!(half > 0 && half <= 0.25))
+        throw std::invalid_argument("sheet thickness must be in (0, cell size / 2]");
+      dist = signed_distance(phi, half + 3.0 / n);
+      lat = sample_part(dist, size, p.cell_size, [](double d) { return -std::abs(d); });
+      level = -half;
+    } else {
+      lat = sample_part(phi, size, p.cell_size, [sign](double v) { return sign * (v - 0.5); });
+    }
+    topology = clean_part(lat, level, p.keep_fragments);
+    out.mesh = mesh_part(lat, level);
   } else {
     out.mesh = mesh_tiled(
         [&](int i, int j, int k) { return 0.5 + sign * (phi(i % n, j % n, k % n) - 0.5); }, n,
-        p.tiles, p.cell_size, 0.5, solid);
+        p.tiles, p.cell_size, 0.5, false);
   }
   const double mesh_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -234,6 +246,7 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
   r["grid"] = n;
   r["periodic_surface"] = periodic;
   r["mesh_seconds"] = mesh_seconds;
+  if (solid) r["topology"] = part_topology_json(topology, p.units);
   if (p.solid == SolidKind::kSurface) {
     r["area_per_cell"] = s.area / cells / l2;
     r["area_per_cell_units"] = "unit cell edge^2";

@@ -26,6 +26,8 @@ struct ScaffoldParams {
   SolidKind solid = SolidKind::kSurface;
   bool other_phase = false;  // phase 0 = {phi < 1/2} instead of phase 1
   double thickness = 0.0;    // sheet wall thickness, output units
+  // Solids: keep the pieces the box cuts off the solid (default: removed, mesh/part.h).
+  bool keep_fragments = false;
 };
 
 // Value at tiled cell (i, j, k), 0 <= i < tiles[0] * n etc. (cell centres (i + 1/2) h).
@@ -49,7 +51,10 @@ TriMesh periodic_surface_mesh(const Field& phi, double iso = 0.5);
 // alternating sweeps over the 26 neighbours (periodic).
 Field signed_distance(const Field& phi, double band, double iso = 0.5);
 
-// The mesh in output units and its report (see docs/meshing.md for the keys).
+// The mesh in output units and its report (see docs/meshing.md for the keys). Solids are
+// meshed as a PartLattice (mesh/part.h): fragments cut off by the box are removed unless
+// keep_fragments, and the report's `topology` says how many, their volume, and whether the
+// pore space percolates between opposite box faces.
 struct Scaffold {
   TriMesh mesh;
   nlohmann::json report;

@@ -38,6 +38,8 @@ json_has "$work/other.bin.json" closed true
 "$bin" mesh --from "$work/g0.3" --tile 1x1x2 --cell-size 2.5 --solid sheet --thickness 0.4 \
   --out "$work/sheet.stl" --quiet || fail=1
 json_has "$work/sheet.stl.json" closed true
+check grep -q '"fragments_removed": ' "$work/sheet.stl.json"
+check grep -q '"pore_percolates"' "$work/sheet.stl.json"
 "$bin" graded --members "$work/g0.3,$work/g0.6" --axis z --from-fraction 0.35 --to-fraction 0.55 \
   --tile 1x1x3 --cell-size 2 --solid network --out "$work/graded.stl" --quiet || fail=1
 json_has "$work/graded.stl.json" closed true
