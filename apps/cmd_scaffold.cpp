@@ -18,6 +18,7 @@
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "mesh/scaffold_part.h"
+#include "pipeline/scaffold_compare.h"
 #include "mesh_options.h"
 #include "run_control.h"
 
@@ -44,6 +45,7 @@ struct ScaffoldCommand {
   long max_triangles = 0;
   double tolerance = 0.0;
   double min_feature = 0.0;
+  bool compare_nodal = false;
   int threads = 0;
   bool quiet = false;
 };
@@ -190,6 +192,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
   }
+  if (cmd.compare_nodal) {
+    if (!cmd.quiet) std::cerr << "building the nodal twin (--compare-nodal)\n";
+    part.report["compare_nodal"] = compare_with_nodal(phi, cmd.params, d, part);
+  }
   const nlohmann::json& r = part.report;
   plan.meta.title = fmt::format("cmcsurf {} {} scaffold", cmd.surface, cmd.solid);
   plan.meta.description = fmt::format(
@@ -225,6 +231,23 @@ int run_scaffold(ScaffoldCommand& cmd) {
           m["specific_surface"].get<double>(), d.units, m["wall_thickness"]["mean"].get<double>(),
           m["wall_thickness"]["min"].get<double>(), d.units, m["pore_size"]["mean"].get<double>(),
           m["pore_size"]["min"].get<double>(), d.units);
+    if (r.contains("compare_nodal")) {
+      const auto& c = r["compare_nodal"];
+      std::cerr << fmt::format("{:<28} {:>12} {:>12}\n", "--compare-nodal", "CMC", "nodal");
+      auto row = [&](const std::string& name, const nlohmann::json& a, const nlohmann::json& b) {
+        std::cerr << fmt::format("{:<28} {:>12.5g} {:>12.5g}\n", name, a.get<double>(), b.get<double>());
+      };
+      row("porosity", c["cmc"]["porosity"], c["nodal"]["porosity"]);
+      row("mean curvature std (1/" + d.units + ")", c["cmc"]["mean_curvature_std"], c["nodal"]["mean_curvature_std"]);
+      row("specific surface (1/" + d.units + ")", c["cmc"]["specific_surface"], c["nodal"]["specific_surface"]);
+      if (c["cmc"].contains("wall_thickness")) {
+        row("wall thickness mean (" + d.units + ")", c["cmc"]["wall_thickness"]["mean"], c["nodal"]["wall_thickness"]["mean"]);
+        row("wall thickness std (" + d.units + ")", c["cmc"]["wall_thickness"]["std"], c["nodal"]["wall_thickness"]["std"]);
+        row("pore size std (" + d.units + ")", c["cmc"]["pore_size"]["std"], c["nodal"]["pore_size"]["std"]);
+      }
+      if (c["cmc"].contains("thickness"))
+        row("sheet thickness (" + d.units + ")", c["cmc"]["thickness"], c["nodal"]["thickness"]);
+    }
     if (r.contains("decimation"))
       std::cerr << fmt::format("decimated {} -> {} triangles (error {:.3g} {}, volume {:+.2e})\n",
                                r["decimation"]["triangles_before"].get<long>(),
@@ -272,6 +295,10 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_option("--tolerance", cmd->tolerance, "Decimate as far as the surface moves at most this, in --units");
   app->add_option("--min-feature", cmd->min_feature,
                   "Warn when the thinnest wall or narrowest pore is below this (the printer's resolution), in --units");
+  app->add_flag("--compare-nodal", cmd->compare_nodal,
+                "Also build the same design from the nodal approximation at the member's volume "
+                "fraction and report both side by side (curvature, wall and pore spread, "
+                "specific surface) in FILE.json");
   add_run_options(*app, cmd->params, cmd->strings, false);
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress or summary output");
