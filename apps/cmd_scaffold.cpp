@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -33,7 +34,9 @@ struct ScaffoldCommand {
   RunParams params;
   RunOptionStrings strings;
   std::string surface = "G";
-  double porosity = -1.0;
+  std::string porosity;   // P, or A:B for a ramp along --axis
+  std::string axis = "z";
+  int graded_members = 0;  // 0: one per 0.1 of porosity, at least 2
   std::string solid = "network";
   double cell_size = 2.0;
   std::string size = "10";
@@ -73,6 +76,36 @@ Vec3 parse_size(const std::string& s) {
   return {parts[0], parts[1], parts[2]};
 }
 
+// --porosity P (sets `single`) or A:B with --axis; each in (0, 1).
+std::optional<PorosityRamp> parse_porosity(const std::string& s, const std::string& axis,
+                                           double& single) {
+  const auto bad = [&] {
+    return UsageError(fmt::format("--porosity: got '{}'; accepted: P or A:B (a ramp along "
+                                  "--axis) with 0 < P, A, B < 1", s));
+  };
+  auto number = [&](const std::string& part) {
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !(v > 0.0 && v < 1.0)) throw bad();
+    return v;
+  };
+  const std::size_t colon = s.find(':');
+  if (colon == std::string::npos) {
+    single = number(s);
+    return std::nullopt;
+  }
+  PorosityRamp r;
+  r.from = number(s.substr(0, colon));
+  r.to = number(s.substr(colon + 1));
+  if (r.from == r.to) throw bad();
+  if (axis == "x") r.axis = 0;
+  else if (axis == "y") r.axis = 1;
+  else if (axis == "z") r.axis = 2;
+  else throw UsageError(fmt::format("--axis: got '{}'; accepted: x|y|z", axis));
+  single = 0.5 * (r.from + r.to);
+  return r;
+}
+
 std::filesystem::path default_cache() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
     return std::filesystem::path(xdg) / "cmcsurf";
@@ -90,9 +123,8 @@ std::uint64_t parameters_hash(const std::string& text) {
 
 // The member's field: from the cache when a finished entry has the same run parameters,
 // otherwise computed (with progress) and stored there (field.vti, then member.json).
-Field member_field(const ScaffoldCommand& cmd, const std::filesystem::path& cache,
-                   nlohmann::json& about) {
-  const RunParams& p = cmd.params;
+Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
+                   const std::filesystem::path& cache, nlohmann::json& about) {
   const nlohmann::json params = params_json(p);
   const std::string name = p.surface.rfind("expr:", 0) == 0 ? "expr" : p.surface;
   const std::filesystem::path dir =
@@ -127,13 +159,18 @@ Field member_field(const ScaffoldCommand& cmd, const std::filesystem::path& cach
 int run_scaffold(ScaffoldCommand& cmd) {
   // Everything is checked before anything is computed or written.
   cmd.params.surface = cmd.surface;
-  if (!(cmd.porosity > 0.0 && cmd.porosity < 1.0))
-    throw UsageError(fmt::format("--porosity: got {}; accepted: 0 < porosity < 1", cmd.porosity));
   ScaffoldDesign d;
-  d.porosity = cmd.porosity;
+  std::optional<PorosityRamp> ramp = parse_porosity(cmd.porosity, cmd.axis, d.porosity);
   if (cmd.solid == "network") d.solid = SolidKind::kNetwork;
   else if (cmd.solid == "sheet") d.solid = SolidKind::kSheet;
   else throw UsageError(fmt::format("--solid: got '{}'; accepted: network|sheet", cmd.solid));
+  if (ramp && d.solid == SolidKind::kSheet)
+    throw UsageError("--porosity A:B: a graded part is a network solid; --solid sheet takes one "
+                     "porosity");
+  if (cmd.graded_members != 0 && (cmd.graded_members < 2 || cmd.graded_members > 11))
+    throw UsageError(fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
+  if (cmd.compare_nodal && ramp)
+    throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
   if (!(cmd.cell_size > 0) || !std::isfinite(cmd.cell_size) || cmd.cell_size > 1e6)
     throw UsageError(fmt::format("--cell-size: got {}; accepted: > 0 and <= 1e6", cmd.cell_size));
   d.cell_size = cmd.cell_size;
@@ -153,6 +190,7 @@ int run_scaffold(ScaffoldCommand& cmd) {
   d.min_feature = cmd.min_feature;
   cmd.params.volume_fraction = member_volume_fraction(d);
   finish_run_options(cmd.params, cmd.strings, true);
+  if (ramp) ramp->fraction_tol = cmd.params.volume_tol;  // the members' own tolerance
   const double h = d.cell_size / cmd.params.grid;
   double nodes = 1.0;
   for (int c = 0; c < 3; ++c) {
@@ -182,15 +220,37 @@ int run_scaffold(ScaffoldCommand& cmd) {
 
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json member;
-  const Field phi = member_field(cmd, cache, member);
+  Field phi;
+  std::vector<GradedMember> members;
+  if (ramp) {
+    // Members at evenly spaced solid fractions from one end of the ramp to the other.
+    const double a0 = 1.0 - std::max(ramp->from, ramp->to), a1 = 1.0 - std::min(ramp->from, ramp->to);
+    const int count = cmd.graded_members > 0 ? cmd.graded_members
+                                             : std::max(2, int(std::ceil((a1 - a0) / 0.1 - 1e-9)) + 1);
+    member = nlohmann::json::array();
+    for (int m = 0; m < count; ++m) {
+      RunParams p = cmd.params;
+      p.volume_fraction = a0 + (a1 - a0) * m / (count - 1);
+      nlohmann::json about;
+      GradedMember g;
+      g.phi = member_field(cmd, p, cache, about);
+      g.volume_fraction = about["run"].value("volume_fraction", p.volume_fraction);
+      members.push_back(std::move(g));
+      member.push_back(about);
+    }
+  } else {
+    phi = member_field(cmd, cmd.params, cache, member);
+  }
   const double member_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ScaffoldPart part;
   try {
-    part = design_scaffold(phi, d);
+    part = ramp ? design_graded_scaffold(members, d, *ramp) : design_scaffold(phi, d);
   } catch (const ClosedCellError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--porosity: {}", e.what()));
   }
   if (cmd.compare_nodal) {
     if (!cmd.quiet) std::cerr << "building the nodal twin (--compare-nodal)\n";
@@ -200,14 +260,17 @@ int run_scaffold(ScaffoldCommand& cmd) {
   plan.meta.title = fmt::format("cmcsurf {} {} scaffold", cmd.surface, cmd.solid);
   plan.meta.description = fmt::format(
       "surface={}; solid={}; porosity={:.4f} (target {}); cell_size={} {}; size={}x{}x{} {}{}",
-      cmd.surface, cmd.solid, r["porosity"].get<double>(), d.porosity, d.cell_size, d.units,
+      cmd.surface, cmd.solid, r["porosity"].get<double>(),
+      ramp ? fmt::format("{} along {}", cmd.porosity, cmd.axis) : fmt::format("{}", d.porosity),
+      d.cell_size, d.units,
       d.size[0], d.size[1], d.size[2], d.units,
       d.solid == SolidKind::kSheet
           ? fmt::format("; thickness={:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
           : "");
-  member["seconds"] = member_seconds;
+  nlohmann::json members_about = {{"members", member}, {"seconds", member_seconds}};
+  if (!ramp) members_about = member, members_about["seconds"] = member_seconds;
   write_mesh_with_report(part.mesh, part.report, plan,
-                         {{"member", member}, {"threads", threads},
+                         {{"member", members_about}, {"threads", threads},
                           {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
   if (!cmd.quiet) {
     const auto& m = r["morphometry"];
@@ -216,7 +279,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
         "{} {} scaffold, {}x{}x{} {}: porosity {:.4f} (target {}, error {:+.1e}){}\n"
         "{} triangles, {}, {}; {} fragments removed ({:.3g} {}^3); pores percolate x y z\n",
         cmd.surface, cmd.solid, d.size[0], d.size[1], d.size[2], d.units,
-        r["porosity"].get<double>(), d.porosity, r["porosity_error"].get<double>(),
+        r["porosity"].get<double>(),
+        ramp ? fmt::format("{} along {}, mean {}", cmd.porosity, cmd.axis, 0.5 * (ramp->from + ramp->to))
+             : fmt::format("{}", d.porosity),
+        r["porosity_error"].get<double>(),
         d.solid == SolidKind::kSheet
             ? fmt::format(", wall thickness {:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
             : "",
@@ -224,13 +290,19 @@ int run_scaffold(ScaffoldCommand& cmd) {
         r["checks"]["manifold"].get<bool>() ? "manifold" : "NOT manifold",
         t["fragments_removed"].get<bool>() ? t["fragments"].get<long>() : 0,
         t["fragments_removed"].get<bool>() ? t["fragment_volume"].get<double>() : 0.0, d.units);
-    if (m.contains("wall_thickness"))
+    if (m.contains("wall_thickness") && m.contains("pore_size"))
       std::cerr << fmt::format(
           "specific surface {:.4g} 1/{}; wall thickness mean {:.4g} min {:.4g} {}; pore size mean "
           "{:.4g} min {:.4g} {}\n",
           m["specific_surface"].get<double>(), d.units, m["wall_thickness"]["mean"].get<double>(),
           m["wall_thickness"]["min"].get<double>(), d.units, m["pore_size"]["mean"].get<double>(),
           m["pore_size"]["min"].get<double>(), d.units);
+    if (r.contains("graded")) {
+      std::string line = "porosity per cell along " + cmd.axis + ":";
+      for (const auto& b : r["graded"]["profile"])
+        line += fmt::format(" {:.3f}", b["porosity_nodes"].get<double>());
+      std::cerr << line << " (lattice nodes)\n";
+    }
     if (r.contains("compare_nodal")) {
       const auto& c = r["compare_nodal"];
       std::cerr << fmt::format("{:<28} {:>12} {:>12}\n", "--compare-nodal", "CMC", "nodal");
@@ -274,8 +346,13 @@ CommandFn add_scaffold_command(CLI::App& root) {
       "sheet --cell-size 2 --size 10x10x20 --units mm --grid 32 --fast --out part.3mf");
   app->add_option("--surface", cmd->surface, "Surface family: P, D, G, ... (see `cmcsurf surfaces`)")
       ->capture_default_str();
-  app->add_option("--porosity", cmd->porosity, "Target porosity of the part: 1 - solid / box volume, in (0, 1)")
+  app->add_option("--porosity", cmd->porosity,
+                  "Target porosity of the part: 1 - solid / box volume, in (0, 1); A:B ramps it "
+                  "linearly from A to B along --axis (network only)")
       ->required();
+  app->add_option("--axis", cmd->axis, "Axis of a --porosity A:B ramp: x, y or z")->capture_default_str();
+  app->add_option("--graded-members", cmd->graded_members,
+                  "Members a ramp blends (default: one per 0.1 of porosity, at least 2)");
   app->add_option("--solid", cmd->solid,
                   "network (the region on one side of the CMC surface at volume fraction 1 - "
                   "porosity) or sheet (a wall around the alpha = 1/2 surface, its thickness "

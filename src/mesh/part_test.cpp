@@ -7,6 +7,7 @@
 #include "mesh/part.h"
 #include "mesh/scaffold_part.h"
 #include "mesh/writers.h"
+#include "measure/sharp_volume.h"
 #include "support/temp_dir.h"
 #include "surfaces/initial.h"
 
@@ -126,6 +127,41 @@ TEST(Part, PorosityHitsTheTargetForSheetAndNetwork) {
       }
     }
   }
+}
+
+// A graded network (porosity 0.58 -> 0.42 along z over three cells) from three members
+// G + 1/2 + c (porosities 0.60, 0.50, 0.40): one closed manifold piece whose pores percolate,
+// the porosity of each cell along z within 0.03 of the ramp's value there and decreasing.
+TEST(Part, GradedPorosityFollowsTheRamp) {
+  std::vector<GradedMember> members(3);
+  const double offsets[3] = {-0.3, 0.0, 0.3};
+  for (int m = 0; m < 3; ++m) {
+    members[m].phi = nodal("G", 24);
+    for_each_cell(24, [&](int i, int j, int k) { members[m].phi(i, j, k) += offsets[m]; });
+    members[m].phi.exchange_halo();
+    members[m].volume_fraction = sharp_volume_fraction(members[m].phi);
+  }
+  ScaffoldDesign d;
+  d.cell_size = 1.0;
+  d.size = {1.0, 1.0, 3.0};
+  PorosityRamp ramp;
+  ramp.from = 0.58;
+  ramp.to = 0.42;
+  const ScaffoldPart part = design_graded_scaffold(members, d, ramp);
+  expect_clean_solid(part.mesh);
+  EXPECT_EQ(mesh_shell_count(part.mesh), 1u);
+  const nlohmann::json& profile = part.report["graded"]["profile"];
+  ASSERT_EQ(profile.size(), 3u);
+  for (std::size_t b = 0; b < profile.size(); ++b) {
+    EXPECT_NEAR(profile[b]["porosity_nodes"].get<double>(), profile[b]["porosity_target"].get<double>(), 0.03);
+    if (b > 0) {
+      EXPECT_LT(profile[b]["porosity_nodes"].get<double>(), profile[b - 1]["porosity_nodes"].get<double>());
+    }
+  }
+  EXPECT_NEAR(part.report["porosity"].get<double>(), 0.5, 0.01);
+  EXPECT_EQ(part.report["morphometry"]["members"].size(), 3u);
+  ramp.from = 0.95;  // beyond the members
+  EXPECT_THROW(design_graded_scaffold(members, d, ramp), std::invalid_argument);
 }
 
 // The part written as 3MF reads back through lib3mf with the same triangles and units.

@@ -58,45 +58,20 @@ double member_volume_fraction(const ScaffoldDesign& d) {
   return d.solid == SolidKind::kNetwork ? 1.0 - d.porosity : 0.5;
 }
 
-ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
-  if (!(d.porosity > 0.0 && d.porosity < 1.0))
-    throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
-  if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
-    throw std::invalid_argument("a scaffold's solid is network or sheet");
-  const int n = phi.n();
+namespace {
+
+// The part from its sampled lattice: the level solved for the porosity (a sheet always, a
+// network only past kNetworkPorosityTol), the percolation check, decimation, and the report
+// of the mesh as written (with report.seconds of these stages); the morphometry is the
+// caller's. final_level: the level of the part returned.
+ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d, int n,
+                         nlohmann::json sheet, double& final_level) {
   ScaffoldPart out;
   nlohmann::json& r = out.report;
+  double slope = 0.0;  // d porosity / d level, 0: unknown
   auto t0 = std::chrono::steady_clock::now();
-
-  // The field sampled on the box and the level of the solid {a > level}.
-  Field distance;
-  const Field* g = &phi;
-  std::function<double(double)> transform = [](double v) { return v - 0.5; };
-  double level = 0.0, slope = 0.0;  // d porosity / d level, 0: unknown
-  nlohmann::json sheet;
-  if (d.solid == SolidKind::kSheet) {
-    const nlohmann::json periodic = periodic_surface_json(phi);
-    const double area = periodic["area"].get<double>();
-    const double chi = periodic["euler_characteristic"].get<double>();
-    const double t = steiner_thickness(1.0 - d.porosity, area, chi);
-    if (!(t > 0.0 && t < 0.5))
-      throw std::invalid_argument(fmt::format(
-          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
-          "walls thinner than half a cell", d.porosity, t));
-    distance = signed_distance(phi, std::min(0.5, t + 4.0 / n));
-    g = &distance;
-    transform = [](double v) { return -std::abs(v); };
-    level = -0.5 * t;
-    sheet = {{"thickness_steiner", t * d.cell_size}};
-  }
-  const double field_seconds = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  PartLattice lat = sample_part(*g, d.size, d.cell_size, transform);
-  const double sample_seconds = seconds_since(t0);
-
   // The porosity: the sheet's level (its half thickness) is solved by Newton then secant
   // steps on the part's own mesh; a network keeps the CMC level unless trimming moved it.
-  t0 = std::chrono::steady_clock::now();
   Evaluation e = evaluate(lat, level, d.keep_fragments);
   const double tol = d.solid == SolidKind::kSheet ? d.porosity_tol : kNetworkPorosityTol;
   int iterations = 1;  // part meshes evaluated
@@ -183,53 +158,227 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
                                        topo.closed_pores, topo.closed_pore_volume, d.units));
   if (decimate) r["decimation"] = decimation;
 
+  r["seconds"] = {{"solve_clean_mesh", solve_seconds},
+                  {"topology_last", topo.seconds},
+                  {"decimate", decimate ? decimation["seconds"].get<double>() : 0.0}};
+  final_level = e.level;
+  out.mesh = std::move(e.mesh);
+  return out;
+}
+
+// Local thickness of both phases on one unit cell of g at >= kMorphometryGrid voxels per edge
+// (the field interpolated), solid = {transform(g) > level}; warnings under d.min_feature.
+nlohmann::json cell_morphometry(const Field& g, const std::function<double(double)>& transform,
+                                double level, const ScaffoldDesign& d,
+                                std::vector<std::string>& warnings) {
+  nlohmann::json morph;
+  const int n = g.n();
+  const int refine = (kMorphometryGrid + n - 1) / n, m = n * refine;
+  const PartLattice cell = sample_part(g, {d.cell_size, d.cell_size, d.cell_size}, d.cell_size,
+                                       transform, refine);
+  std::vector<std::uint8_t> solid(cell.count()), pore(cell.count());
+  for (std::size_t id = 0; id < cell.count(); ++id) {
+    solid[id] = cell.a[id] > float(level);
+    pore[id] = !solid[id];
+  }
+  const double voxel = d.cell_size / m;
+  const ThicknessStats wall = thickness_stats(local_thickness(solid, m), solid, voxel);
+  const ThicknessStats pores = thickness_stats(local_thickness(pore, m), pore, voxel);
+  morph["wall_thickness"] = thickness_json(wall, d.units);
+  morph["pore_size"] = thickness_json(pores, d.units);
+  morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
+                    "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
+                    "Euclidean distance transform; diameters, within one voxel";
+  morph["voxel"] = voxel;
+  if (d.min_feature > 0) {
+    morph["min_feature"] = d.min_feature;
+    if (wall.min < d.min_feature)
+      warnings.push_back(fmt::format("thinnest wall {:.4g} {} is below --min-feature {}",
+                                     wall.min, d.units, d.min_feature));
+    if (pores.min < d.min_feature)
+      warnings.push_back(fmt::format("narrowest pore {:.4g} {} is below --min-feature {}",
+                                     pores.min, d.units, d.min_feature));
+  }
+  return morph;
+}
+
+nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat,
+                                const std::string& units) {
+  const double area = part.report["area"].get<double>(), volume = part.report["volume"].get<double>();
+  return {{"specific_surface", area / volume},
+          {"specific_surface_units", "1/" + units},
+          {"surface_density", area / lat.box_volume()},
+          {"note", "specific_surface = mesh area / solid volume, surface_density = mesh area / "
+                   "box volume (cut faces included)"}};
+}
+
+}  // namespace
+
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
+  if (!(d.porosity > 0.0 && d.porosity < 1.0))
+    throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
+  if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
+    throw std::invalid_argument("a scaffold's solid is network or sheet");
+  const int n = phi.n();
+  auto t0 = std::chrono::steady_clock::now();
+
+  // The field sampled on the box and the level of the solid {a > level}.
+  Field distance;
+  const Field* g = &phi;
+  std::function<double(double)> transform = [](double v) { return v - 0.5; };
+  double level = 0.0;
+  nlohmann::json sheet;
+  if (d.solid == SolidKind::kSheet) {
+    const nlohmann::json periodic = periodic_surface_json(phi);
+    const double area = periodic["area"].get<double>();
+    const double chi = periodic["euler_characteristic"].get<double>();
+    const double t = steiner_thickness(1.0 - d.porosity, area, chi);
+    if (!(t > 0.0 && t < 0.5))
+      throw std::invalid_argument(fmt::format(
+          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
+          "walls thinner than half a cell", d.porosity, t));
+    distance = signed_distance(phi, std::min(0.5, t + 4.0 / n));
+    g = &distance;
+    transform = [](double v) { return -std::abs(v); };
+    level = -0.5 * t;
+    sheet = {{"thickness_steiner", t * d.cell_size}};
+  }
+  const double field_seconds = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  PartLattice lat = sample_part(*g, d.size, d.cell_size, transform);
+  const double sample_seconds = seconds_since(t0);
+
+  double final_level = level;
+  ScaffoldPart out = finish_part(lat, level, d, n, std::move(sheet), final_level);
+  nlohmann::json& r = out.report;
   // Morphometry on the periodic unit cell (the lattice's own walls and pores).
-  nlohmann::json morph = {{"specific_surface", s.area / s.volume},
-                          {"specific_surface_units", "1/" + d.units},
-                          {"surface_density", s.area / lat.box_volume()},
-                          {"note", "specific_surface = mesh area / solid volume, surface_density "
-                                   "= mesh area / box volume (cut faces included)"}};
+  nlohmann::json morph = surface_measures(out, lat, d.units);
   double morph_seconds = 0.0;
   if (d.morphometry) {
     t0 = std::chrono::steady_clock::now();
-    // One unit cell at >= kMorphometryGrid voxels per edge (the field interpolated).
-    const int refine = (kMorphometryGrid + n - 1) / n, m = n * refine;
-    const PartLattice cell = sample_part(*g, {d.cell_size, d.cell_size, d.cell_size}, d.cell_size,
-                                         transform, refine);
-    std::vector<std::uint8_t> solid(cell.count()), pore(cell.count());
-    for (std::size_t id = 0; id < cell.count(); ++id) {
-      solid[id] = cell.a[id] > float(e.level);
-      pore[id] = !solid[id];
-    }
-    const double voxel = d.cell_size / m;
-    const ThicknessStats wall = thickness_stats(local_thickness(solid, m), solid, voxel);
-    const ThicknessStats pores = thickness_stats(local_thickness(pore, m), pore, voxel);
-    morph["wall_thickness"] = thickness_json(wall, d.units);
-    morph["pore_size"] = thickness_json(pores, d.units);
-    morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
-                      "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
-                      "Euclidean distance transform; diameters, within one voxel";
-    morph["voxel"] = voxel;
+    morph.update(cell_morphometry(*g, transform, final_level, d, out.warnings));
     morph_seconds = seconds_since(t0);
-    if (d.min_feature > 0) {
-      morph["min_feature"] = d.min_feature;
-      if (wall.min < d.min_feature)
-        out.warnings.push_back(fmt::format("thinnest wall {:.4g} {} is below --min-feature {}",
-                                           wall.min, d.units, d.min_feature));
-      if (pores.min < d.min_feature)
-        out.warnings.push_back(fmt::format("narrowest pore {:.4g} {} is below --min-feature {}",
-                                           pores.min, d.units, d.min_feature));
-    }
   }
   r["morphometry"] = morph;
   r["warnings"] = out.warnings;
-  r["seconds"] = {{"distance_field", field_seconds},
-                  {"sample", sample_seconds},
-                  {"solve_clean_mesh", solve_seconds},
-                  {"topology_last", topo.seconds},
-                  {"decimate", decimate ? decimation["seconds"].get<double>() : 0.0},
-                  {"morphometry", morph_seconds}};
-  out.mesh = std::move(e.mesh);
+  r["seconds"]["distance_field"] = field_seconds;
+  r["seconds"]["sample"] = sample_seconds;
+  r["seconds"]["morphometry"] = morph_seconds;
+  return out;
+}
+
+ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp) {
+  if (d.solid != SolidKind::kNetwork)
+    throw std::invalid_argument("a graded scaffold is a network solid");
+  if (members.size() < 2) throw std::invalid_argument("a graded scaffold needs two members");
+  for (double p : {ramp.from, ramp.to})
+    if (!(p > 0.0 && p < 1.0))
+      throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", p));
+  if (ramp.axis < 0 || ramp.axis > 2) throw std::invalid_argument("ramp axis must be 0, 1 or 2");
+  const int n = members[0].phi.n();
+  for (std::size_t m = 1; m < members.size(); ++m) {
+    if (members[m].phi.n() != n) throw std::invalid_argument("graded members must share one grid");
+    if (!(members[m].volume_fraction > members[m - 1].volume_fraction))
+      throw std::invalid_argument("graded members must be sorted by increasing volume fraction");
+  }
+  const double lo = members.front().volume_fraction, hi = members.back().volume_fraction;
+  for (double p : {ramp.from, ramp.to})
+    if (!(1.0 - p >= lo - ramp.fraction_tol && 1.0 - p <= hi + ramp.fraction_tol))
+      throw std::invalid_argument(fmt::format(
+          "porosity {}: outside the members' porosities [{:.6f}, {:.6f}]", p, 1.0 - hi, 1.0 - lo));
+  auto t0 = std::chrono::steady_clock::now();
+  // The blend along the axis: the solid fraction 1 - porosity is interpolated between the two
+  // members that bracket it, so each member enters with a hat-function weight per layer.
+  PartLattice lat;
+  std::vector<double> target;  // solid fraction per node layer along the axis
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    PartLattice one = sample_part(members[m].phi, d.size, d.cell_size, [](double v) { return v - 0.5; });
+    const int layers = one.nodes[ramp.axis];
+    if (m == 0) {
+      lat = one;
+      std::fill(lat.a.begin(), lat.a.end(), 0.0f);
+      target.resize(layers);
+      for (int q = 0; q < layers; ++q)
+        target[q] = 1.0 - (ramp.from + (ramp.to - ramp.from) * (q + 0.5) / layers);
+    }
+    std::vector<float> weight(layers, 0.0f);
+    for (int q = 0; q < layers; ++q) {
+      const double a = std::clamp(target[q], lo, hi);
+      const double here = members[m].volume_fraction;
+      if (m > 0 && a >= members[m - 1].volume_fraction && a <= here)
+        weight[q] = float((a - members[m - 1].volume_fraction) / (here - members[m - 1].volume_fraction));
+      else if (m + 1 < members.size() && a >= here && a < members[m + 1].volume_fraction)
+        weight[q] = float((members[m + 1].volume_fraction - a) / (members[m + 1].volume_fraction - here));
+      else if (a == here)
+        weight[q] = 1.0f;
+    }
+    for (int k = 0; k < lat.nodes[2]; ++k)
+      for (int j = 0; j < lat.nodes[1]; ++j)
+        for (int i = 0; i < lat.nodes[0]; ++i) {
+          const int at[3] = {i, j, k};
+          const float w = weight[at[ramp.axis]];
+          if (w != 0.0f) lat.a[lat.index(i, j, k)] += w * one.a[lat.index(i, j, k)];
+        }
+  }
+  const double sample_seconds = seconds_since(t0);
+  ScaffoldDesign mean = d;
+  mean.porosity = 0.5 * (ramp.from + ramp.to);
+  double final_level = 0.0;
+  ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level);
+  nlohmann::json& r = out.report;
+  // The porosity profile along the axis: the fraction of each layer's nodes outside the solid.
+  nlohmann::json profile = nlohmann::json::array();
+  const int layers = lat.nodes[ramp.axis];
+  std::vector<std::size_t> inside(layers, 0);
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    for (int j = 0; j < lat.nodes[1]; ++j)
+      for (int i = 0; i < lat.nodes[0]; ++i) {
+        const std::size_t id = lat.index(i, j, k);
+        const int at[3] = {i, j, k};
+        inside[at[ramp.axis]] += lat.a[id] > float(final_level) && !lat.removed[id];
+      }
+  const double per_layer = double(lat.count()) / layers;
+  const int slabs = std::max(1, int(std::lround(d.size[ramp.axis] / d.cell_size)));
+  for (int b = 0; b < slabs; ++b) {
+    const int q0 = b * layers / slabs, q1 = (b + 1) * layers / slabs;
+    double solid = 0.0, want = 0.0;
+    for (int q = q0; q < q1; ++q) solid += inside[q] / per_layer, want += target[q];
+    profile.push_back({{"from", q0 * lat.spacing[ramp.axis]},
+                       {"to", q1 * lat.spacing[ramp.axis]},
+                       {"porosity_target", 1.0 - want / (q1 - q0)},
+                       {"porosity_nodes", 1.0 - solid / (q1 - q0)}});
+  }
+  nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
+  double morph_seconds = 0.0;
+  t0 = std::chrono::steady_clock::now();
+  for (const GradedMember& m : members) {
+    fractions.push_back(m.volume_fraction);
+    if (d.morphometry) {
+      nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level, d,
+                                          out.warnings);
+      c["porosity"] = 1.0 - m.volume_fraction;
+      c.erase("method");
+      cells.push_back(c);
+    }
+  }
+  morph_seconds = seconds_since(t0);
+  r["design"]["porosity"] = nullptr;
+  r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
+                 {"porosity_from", ramp.from},
+                 {"porosity_to", ramp.to},
+                 {"member_volume_fractions", fractions},
+                 {"blend", "phi - 1/2 of the two members bracketing the local solid fraction, "
+                           "weights linear in it, per node layer along the axis"},
+                 {"profile", profile},
+                 {"profile_note", "per cell along the axis: the target and the fraction of "
+                                  "lattice nodes outside the solid"}};
+  nlohmann::json morph = surface_measures(out, lat, d.units);
+  if (d.morphometry) morph["members"] = cells;
+  r["morphometry"] = morph;
+  r["warnings"] = out.warnings;
+  r["seconds"]["sample"] = sample_seconds;
+  r["seconds"]["morphometry"] = morph_seconds;
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include "grid/field.h"
 #include "mesh/decimate.h"
+#include "mesh/graded.h"
 #include "mesh/part.h"
 #include "mesh/scaffold.h"
 
@@ -48,5 +49,21 @@ struct ScaffoldPart {
 // phi: the member's field (whole grid, ghost >= 1). Throws std::invalid_argument on a design
 // out of range and ClosedCellError on a closed-cell part (nothing to write).
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d);
+
+// A graded part (issue 17, paper Fig. 2): the porosity ramps linearly from `from` at the low
+// end of the axis to `to` at the high end.
+struct PorosityRamp {
+  double from = 0.8, to = 0.6;
+  int axis = 2;               // 0 x, 1 y, 2 z
+  double fraction_tol = 1e-4;  // ends accepted this far outside the members' range
+};
+
+// members: network members (phase 1 solid) sorted by increasing volume fraction, one grid,
+// spanning 1 - from and 1 - to; each node layer along the axis blends the two that bracket
+// its target. d.porosity is ignored (the ramp's mean is the overall target); the report adds
+// `graded` (the profile per cell along the axis) and per-member morphometry. Throws
+// std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
+ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp);
 
 }  // namespace cmcsurf

@@ -15,6 +15,11 @@ check_usage i.stl --grid "${s[@]}" --porosity 0.7 --grid 13
 check_usage j.stl --tolerance "${s[@]}" --porosity 0.7 --tolerance -1
 check_usage k.stl --surface "${s[@]}" --porosity 0.7 --surface nosuch
 check_usage l.stl --size "${s[@]}" --porosity 0.7 --size 1000
+check_usage m.stl --porosity "${s[@]}" --porosity 0.8:0.6 --solid sheet
+check_usage n.stl --porosity "${s[@]}" --porosity 0.8:0.8
+check_usage o.stl --axis "${s[@]}" --porosity 0.8:0.6 --axis w
+check_usage p.stl --graded-members "${s[@]}" --porosity 0.8:0.6 --graded-members 1
+check_usage q.stl --compare-nodal "${s[@]}" --porosity 0.8:0.6 --compare-nodal
 if [ -e "$work/cache" ]; then echo "FAIL: a member was computed for bad input"; fail=1; fi
 [ "$fail" -eq 0 ] && echo "scaffold_bad_options: all passed"
 exit "$fail"

@@ -59,6 +59,18 @@ json_has "$work/small.stl.json" within_budget true
 json_has "$work/small.stl.json" closed true
 json_has "$work/small.stl.json" manifold true
 check test "$(stat -c %s "$work/small.stl")" -le $((84 + 50 * 20000))
+# A graded part: porosity 0.8 -> 0.6 along z from members computed at 0.2, 0.3, 0.4.
+"$bin" scaffold --surface G --porosity 0.8:0.6 --axis z --size 4x4x6 "${common[@]}" \
+  --out "$work/graded_part.stl" || { echo "FAIL: scaffold graded"; fail=1; }
+json_has "$work/graded_part.stl.json" closed true
+python3 - "$work/graded_part.stl.json" <<'PY' || { echo "FAIL: graded profile"; fail=1; }
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = r["graded"]["profile"]
+assert len(p) == 3 and len(r["graded"]["member_volume_fractions"]) == 3, r["graded"]
+assert all(abs(b["porosity_nodes"] - b["porosity_target"]) < 0.03 for b in p), p
+assert p[0]["porosity_nodes"] > p[1]["porosity_nodes"] > p[2]["porosity_nodes"], p
+PY
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written.
 "$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
