@@ -3,6 +3,7 @@
 // folder keyed by its run parameters.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +20,7 @@
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "mesh/scaffold_part.h"
+#include "mesh/shape.h"
 #include "pipeline/scaffold_compare.h"
 #include "mesh_options.h"
 #include "run_control.h"
@@ -49,6 +51,9 @@ struct ScaffoldCommand {
   double tolerance = 0.0;
   double min_feature = 0.0;
   bool compare_nodal = false;
+  std::string shape;
+  double skin = 0.0;
+  CLI::Option* size_option = nullptr;
   int threads = 0;
   bool quiet = false;
 };
@@ -175,6 +180,32 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--cell-size: got {}; accepted: > 0 and <= 1e6", cmd.cell_size));
   d.cell_size = cmd.cell_size;
   d.size = parse_size(cmd.size);
+  std::optional<ShapeFill> shape;
+  if (!cmd.shape.empty()) {
+    if (cmd.size_option->count() > 0)
+      throw UsageError("--size: not with --shape (the part is the shape's own bounding box)");
+    if (ramp) throw UsageError("--shape: takes one --porosity, not a ramp");
+    if (!std::filesystem::is_regular_file(cmd.shape))
+      throw UsageError(fmt::format("--shape: '{}' is not a file", cmd.shape));
+    shape.emplace();
+    try {
+      shape->mesh = read_stl(cmd.shape);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(fmt::format("--shape: {}", e.what()));
+    }
+    const MeshStats s = analyze_mesh(shape->mesh);
+    if (!s.closed() || !s.manifold() || !(std::abs(s.volume) > 0))
+      throw UsageError(fmt::format(
+          "--shape: '{}' is not a closed manifold solid ({} boundary edges, {} non-manifold "
+          "edges); accepted: one closed, manifold triangle mesh in --units", cmd.shape,
+          s.boundary_edges, s.nonmanifold_edges));
+    for (int c = 0; c < 3; ++c) d.size[c] = s.max[c] - s.min[c];
+    if (!(cmd.skin >= 0) || !std::isfinite(cmd.skin) || cmd.skin > 0.5 * *std::min_element(d.size.begin(), d.size.end()))
+      throw UsageError(fmt::format("--skin: got {}; accepted: 0 .. half the shape's smallest extent, in --units", cmd.skin));
+    shape->skin = cmd.skin;
+  } else if (cmd.skin != 0.0) {
+    throw UsageError("--skin: only with --shape");
+  }
   if (!is_mesh_unit(cmd.units))
     throw UsageError(fmt::format("--units: got '{}'; accepted: {}", cmd.units, mesh_units_list()));
   d.units = cmd.units;
@@ -196,15 +227,15 @@ int run_scaffold(ScaffoldCommand& cmd) {
   for (int c = 0; c < 3; ++c) {
     if (d.size[c] / h > 8192 || d.size[c] / h < 2)
       throw UsageError(fmt::format(
-          "--size: {} {} is {:.0f} grid spacings (--cell-size / --grid = {:.4g}); accepted: 2 .. "
-          "8192", d.size[c], d.units, d.size[c] / h, h));
+          "{}: {} {} is {:.0f} grid spacings (--cell-size / --grid = {:.4g}); accepted: 2 .. "
+          "8192", shape ? "--shape" : "--size", d.size[c], d.units, d.size[c] / h, h));
     nodes *= std::ceil(d.size[c] / h);
   }
   if (nodes > kMaxPartNodes)
     throw UsageError(fmt::format(
-        "--size: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
+        "{}: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
         "at most {:.3g} (about 9 bytes each, plus the mesh): a smaller box or --grid",
-        nodes, h, d.units, kMaxPartNodes));
+        shape ? "--shape" : "--size", nodes, h, d.units, kMaxPartNodes));
   MeshPlan plan;
   plan.out = cmd.out;
   try {
@@ -245,13 +276,15 @@ int run_scaffold(ScaffoldCommand& cmd) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ScaffoldPart part;
   try {
-    part = ramp ? design_graded_scaffold(members, d, *ramp) : design_scaffold(phi, d);
+    part = ramp ? design_graded_scaffold(members, d, *ramp)
+                : design_scaffold(phi, d, shape ? &*shape : nullptr);
   } catch (const ClosedCellError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("--porosity: {}", e.what()));
   }
+  if (shape) part.report["shape"]["file"] = cmd.shape;
   if (cmd.compare_nodal) {
     if (!cmd.quiet) std::cerr << "building the nodal twin (--compare-nodal)\n";
     part.report["compare_nodal"] = compare_with_nodal(phi, cmd.params, d, part);
@@ -359,8 +392,13 @@ CommandFn add_scaffold_command(CLI::App& root) {
                   "solved for the porosity)")
       ->capture_default_str();
   app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")->capture_default_str();
-  app->add_option("--size", cmd->size, "The part's box AxBxC (or A) in --units; any size, the lattice is trimmed and capped")
-      ->capture_default_str();
+  cmd->size_option =
+      app->add_option("--size", cmd->size, "The part's box AxBxC (or A) in --units; any size, the lattice is trimmed and capped")
+          ->capture_default_str();
+  app->add_option("--shape", cmd->shape,
+                  "Fill this closed STL mesh (in --units) instead of a box: the lattice is cut to "
+                  "it and capped on its surface, the porosity holds over its volume");
+  app->add_option("--skin", cmd->skin, "With --shape: a dense skin of this thickness inside its surface, in --units");
   app->add_option("--units", cmd->units, std::string("Length unit: ") + mesh_units_list())->capture_default_str();
   app->add_option("--format", cmd->format, std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");
   app->add_option("--out", cmd->out, "Output mesh file (a report goes to FILE.json)")->required();

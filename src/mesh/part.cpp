@@ -92,15 +92,15 @@ std::map<std::uint32_t, ComponentBox> component_boxes(const PartLattice& lat,
 
 // The mesh over the window of nodes lo..hi per axis in part indices (-1 and nodes[c] are the
 // pads beyond the box); the window's outermost layers are pads (outside, edges into them cut
-// half-way: the caps on the box faces), value(id) at the others.
+// half-way: the caps on the box faces), value(id) at the others (the solid: > 0).
 TriMesh mesh_window(const PartLattice& lat, const std::array<int, 3>& lo,
-                    const std::array<int, 3>& hi, double level,
+                    const std::array<int, 3>& hi,
                     const std::function<double(std::size_t)>& value) {
   NodeLattice nl;
   for (int c = 0; c < 3; ++c) {
     nl.nodes[c] = hi[c] - lo[c] + 1;
     nl.spacing[c] = lat.spacing[c];
-    nl.origin[c] = (lo[c] + 0.5) * lat.spacing[c];
+    nl.origin[c] = lat.origin[c] + (lo[c] + 0.5) * lat.spacing[c];
   }
   nl.pad_outside = true;
   nl.layer = [&](int k, double* v) {
@@ -113,11 +113,11 @@ TriMesh mesh_window(const PartLattice& lat, const std::array<int, 3>& lo,
         const int ii = i + lo[0];
         const bool pad = ii < 0 || jj < 0 || kk < 0 || ii >= lat.nodes[0] ||
                          jj >= lat.nodes[1] || kk >= lat.nodes[2];
-        v[std::size_t(j) * nx + i] = pad ? level : value(lat.index(ii, jj, kk));
+        v[std::size_t(j) * nx + i] = pad ? 0.0 : value(lat.index(ii, jj, kk));
       }
     }
   };
-  return extract_isosurface(nl, level);
+  return extract_isosurface(nl, 0.0);
 }
 
 }  // namespace
@@ -179,10 +179,9 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
   const auto t0 = std::chrono::steady_clock::now();
   PartTopology t;
   lat.removed.assign(lat.count(), 0);
-  const float lv = float(level);
   {
     const std::vector<std::uint32_t> root =
-        label_components(lat, [&](std::size_t id) { return lat.a[id] > lv; });
+        label_components(lat, [&](std::size_t id) { return lat.value(id, level) > 0.0; });
     const std::map<std::uint32_t, ComponentBox> boxes = component_boxes(lat, root);
     t.solid_components = boxes.size();
     std::uint32_t largest = kNone;
@@ -200,9 +199,8 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
         lo[c] = std::max(b.lo[c] - 2, -1);
         hi[c] = std::min(b.hi[c] + 2, lat.nodes[c]);
       }
-      const TriMesh m = mesh_window(lat, lo, hi, level, [&](std::size_t id) -> double {
-        if (root[id] == me) return lat.a[id];
-        return root[id] == kNone ? double(lat.a[id]) : double(kRemoved);
+      const TriMesh m = mesh_window(lat, lo, hi, [&](std::size_t id) -> double {
+        return root[id] == me || root[id] == kNone ? lat.value(id, level) : double(kRemoved);
       });
       t.fragment_volumes.push_back(mesh_volume(m));
       t.fragment_volume += t.fragment_volumes.back();
@@ -216,7 +214,7 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
   }
   {
     const std::vector<std::uint32_t> root = label_components(
-        lat, [&](std::size_t id) { return !(lat.a[id] > lv) || lat.removed[id] != 0; });
+        lat, [&](std::size_t id) { return !(lat.value(id, level) > 0.0) || lat.removed[id] != 0; });
     const std::map<std::uint32_t, ComponentBox> boxes = component_boxes(lat, root);
     t.pore_components = boxes.size();
     const double node_volume = lat.spacing[0] * lat.spacing[1] * lat.spacing[2];
@@ -235,10 +233,9 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
 
 TriMesh mesh_part(const PartLattice& lat, double level) {
   const bool any_removed = !lat.removed.empty();
-  return mesh_window(lat, {-1, -1, -1}, lat.nodes,
-                     level, [&](std::size_t id) -> double {
-                       return any_removed && lat.removed[id] ? double(kRemoved) : double(lat.a[id]);
-                     });
+  return mesh_window(lat, {-1, -1, -1}, lat.nodes, [&](std::size_t id) -> double {
+    return any_removed && lat.removed[id] ? double(kRemoved) : lat.value(id, level);
+  });
 }
 
 nlohmann::json part_topology_json(const PartTopology& t, const std::string& units) {

@@ -6,6 +6,7 @@
 // the pads beyond them (mesh/marching_tets.h).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -23,8 +24,21 @@ struct PartLattice {
   Vec3 spacing{0, 0, 0};  // output units
   Vec3 size{0, 0, 0};     // the box, output units: nodes * spacing
   std::vector<float> a;   // x fastest; the solid is {a > level}
+  // A user's shape (--shape): the solid is also cut to {clip > 0} and joined with the skin
+  // {skin > 0}; empty: none. Set by the caller in a's units.
+  std::vector<float> clip, skin;
+  Vec3 origin{0, 0, 0};         // of the box, output units (the mesh is placed there)
+  double reference_volume = 0;  // porosity is relative to this; 0: the box
   // Nodes left out of the solid (fragments; empty: none), set by clean_part.
   std::vector<std::uint8_t> removed;
+  // > 0 in the solid at `level`: max(min(a - level, clip), skin).
+  double value(std::size_t id, double level) const {
+    double v = double(a[id]) - level;
+    if (!clip.empty()) v = std::min(v, double(clip[id]));
+    if (!skin.empty()) v = std::max(v, double(skin[id]));
+    return v;
+  }
+  double porosity_volume() const { return reference_volume > 0 ? reference_volume : box_volume(); }
   std::size_t index(int i, int j, int k) const {
     return (std::size_t(k) * nodes[1] + j) * nodes[0] + i;
   }

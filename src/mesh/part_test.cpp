@@ -6,6 +6,7 @@
 #include "mesh/morphometry.h"
 #include "mesh/part.h"
 #include "mesh/scaffold_part.h"
+#include "mesh/shape.h"
 #include "mesh/writers.h"
 #include "measure/sharp_volume.h"
 #include "support/temp_dir.h"
@@ -162,6 +163,55 @@ TEST(Part, GradedPorosityFollowsTheRamp) {
   EXPECT_EQ(part.report["morphometry"]["members"].size(), 3u);
   ramp.from = 0.95;  // beyond the members
   EXPECT_THROW(design_graded_scaffold(members, d, ramp), std::invalid_argument);
+}
+
+// A box as a closed outward mesh (12 triangles).
+TriMesh box_mesh(const Vec3& lo, const Vec3& hi) {
+  TriMesh m;
+  for (int c = 0; c < 8; ++c) m.vertices.push_back({c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]});
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+// --shape: a G network filling a 2 x 2 x 1.5 cell block placed off the lattice's origin is one
+// closed manifold piece inside the block, with the porosity over the block's volume within
+// 1e-3 of the target; a dense skin adds solid and the porosity still holds (the level moves).
+// The shape comes through the STL reader (binary written by write_stl).
+TEST(Part, ShapeFillHoldsThePorosityOverTheShape) {
+  TempDir dir("part_test");
+  write_stl(dir / "block.stl", box_mesh({0.3, 0.2, 0.1}, {2.3, 2.2, 1.6}));
+  ShapeFill shape;
+  shape.mesh = read_stl(dir / "block.stl");
+  ASSERT_EQ(shape.mesh.triangles.size(), 12u);
+  ASSERT_EQ(shape.mesh.vertices.size(), 8u);
+  ScaffoldDesign d;
+  d.cell_size = 1.0;
+  d.porosity = 0.6;
+  d.morphometry = false;
+  const Field phi = nodal("G", 24);
+  for (const double skin : {0.0, 0.08}) {
+    shape.skin = skin;
+    const ScaffoldPart part = design_scaffold(phi, d, &shape);
+    expect_clean_solid(part.mesh);
+    const nlohmann::json& t = part.report["topology"];
+    EXPECT_EQ(t["solid_components"].get<int>() - t["fragments"].get<int>(), 1);
+    // Without a skin the pores open onto the surface (one shell); a skin closes them in (a
+    // warning), each closed pore an inner shell of the one piece.
+    if (skin == 0.0) {
+      EXPECT_EQ(mesh_shell_count(part.mesh), 1u);
+    } else {
+      EXPECT_GT(t["closed_pores"].get<int>(), 0);
+      EXPECT_EQ(mesh_shell_count(part.mesh), 1u + t["closed_pores"].get<std::size_t>());
+    }
+    EXPECT_NEAR(part.report["shape"]["volume"].get<double>(), 6.0, 1e-6);
+    EXPECT_NEAR(part.report["porosity"].get<double>(), 0.6, 1e-3) << skin;
+    const MeshStats s = analyze_mesh(part.mesh);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(s.min[c], shape.mesh.vertices[0][c] - 0.01);
+      EXPECT_LE(s.max[c], shape.mesh.vertices[7][c] + 0.01);
+    }
+  }
 }
 
 // The part written as 3MF reads back through lib3mf with the same triangles and units.

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "mesh/morphometry.h"
+#include "mesh/shape.h"
 
 namespace cmcsurf {
 
@@ -36,7 +37,7 @@ Evaluation evaluate(PartLattice& lat, double level, bool keep_fragments) {
   e.level = level;
   e.topology = clean_part(lat, level, keep_fragments);
   e.mesh = mesh_part(lat, level);
-  e.porosity = 1.0 - mesh_volume(e.mesh) / lat.box_volume();
+  e.porosity = 1.0 - mesh_volume(e.mesh) / lat.porosity_volume();
   e.area = mesh_area(e.mesh);
   return e;
 }
@@ -77,7 +78,7 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   int iterations = 1;  // part meshes evaluated
   if (std::abs(e.porosity - d.porosity) > tol) {
     // Sheet: a level step moves both walls by cell_size per unit, over the mesh's area.
-    if (d.solid == SolidKind::kSheet) slope = e.area * d.cell_size / lat.box_volume();
+    if (d.solid == SolidKind::kSheet) slope = e.area * d.cell_size / lat.porosity_volume();
     double next = slope > 0 ? level - (e.porosity - d.porosity) / slope : level + 1e-3;
     while (iterations < kMaxSolveIterations) {
       Evaluation cur = evaluate(lat, next, d.keep_fragments);
@@ -92,7 +93,18 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
     }
   }
   const double solve_seconds = seconds_since(t0);
+  if (std::abs(e.porosity - d.porosity) > kNetworkPorosityTol)
+    out.warnings.push_back(fmt::format(
+        "porosity {:.4f} misses the target {} by more than 1e-3: no {} level reaches it (with "
+        "--skin, the skin alone may take that much of the volume)",
+        e.porosity, d.porosity, solid_kind_name(d.solid)));
   const PartTopology& topo = e.topology;
+  if (!lat.clip.empty() && lat.skin.empty() && topo.closed_pores > 0)
+    throw ClosedCellError(fmt::format(
+        "closed-cell part: {} pores inside the shape ({:.4g} {}^3) do not reach its surface; "
+        "powder or resin could not be cleared out, so nothing was written. Raise --porosity "
+        "or use another --surface.",
+        topo.closed_pores, topo.closed_pore_volume, d.units));
   if (!topo.percolates()) {
     std::string axes;
     for (int c = 0; c < 3; ++c)
@@ -122,7 +134,7 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   const MeshStats s = analyze_mesh(e.mesh);
   r = mesh_stats_json(s, {1, 1, 1}, d.units, true);
   r.erase("euler_characteristic_per_cell");
-  const double porosity = 1.0 - s.volume / lat.box_volume();
+  const double porosity = 1.0 - s.volume / lat.porosity_volume();
   r["design"] = {{"porosity", d.porosity},
                  {"solid", solid_kind_name(d.solid)},
                  {"cell_size", d.cell_size},
@@ -207,14 +219,14 @@ nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat
   const double area = part.report["area"].get<double>(), volume = part.report["volume"].get<double>();
   return {{"specific_surface", area / volume},
           {"specific_surface_units", "1/" + units},
-          {"surface_density", area / lat.box_volume()},
+          {"surface_density", area / lat.porosity_volume()},
           {"note", "specific_surface = mesh area / solid volume, surface_density = mesh area / "
                    "box volume (cut faces included)"}};
 }
 
 }  // namespace
 
-ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape) {
   if (!(d.porosity > 0.0 && d.porosity < 1.0))
     throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
   if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
@@ -245,7 +257,39 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
   }
   const double field_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
-  PartLattice lat = sample_part(*g, d.size, d.cell_size, transform);
+  nlohmann::json shape_report;
+  PartLattice lat;
+  if (shape == nullptr) {
+    lat = sample_part(*g, d.size, d.cell_size, transform);
+  } else {
+    // The shape's bounding box with two grid spacings around it, so that the solid ends on
+    // the shape's surface rather than on the box.
+    const MeshStats ss = analyze_mesh(shape->mesh);
+    const double margin = 2.0 * d.cell_size / n;
+    Vec3 size;
+    for (int c = 0; c < 3; ++c) size[c] = ss.max[c] - ss.min[c] + 2 * margin;
+    lat = sample_part(*g, size, d.cell_size, transform);
+    for (int c = 0; c < 3; ++c) lat.origin[c] = ss.min[c] - margin;
+    const std::vector<float> sdf = shape_distance(shape->mesh, lat, shape->skin + 4.0 * margin);
+    // Distances into a's units (unit cells): the solid is also {sdf < 0}, and the skin
+    // {-skin < sdf < 0} is solid whatever the lattice.
+    const double k = 1.0 / d.cell_size;
+    lat.clip.resize(sdf.size());
+    for (std::size_t id = 0; id < sdf.size(); ++id) lat.clip[id] = float(-k * sdf[id]);
+    if (shape->skin > 0) {
+      lat.skin.resize(sdf.size());
+      for (std::size_t id = 0; id < sdf.size(); ++id)
+        lat.skin[id] = float(k * std::min(-double(sdf[id]), sdf[id] + shape->skin));
+    }
+    lat.reference_volume = std::abs(ss.volume);
+    shape_report = {{"volume", lat.reference_volume},
+                    {"bounding_box", {{"min", ss.min}, {"max", ss.max}}},
+                    {"triangles", ss.triangles},
+                    {"skin", shape->skin},
+                    {"units", d.units},
+                    {"method", "signed distance by OpenVDB meshToLevelSet on the lattice's "
+                               "nodes; solid = lattice solid within the shape, plus the skin"}};
+  }
   const double sample_seconds = seconds_since(t0);
 
   double final_level = level;
@@ -260,6 +304,10 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d) {
     morph_seconds = seconds_since(t0);
   }
   r["morphometry"] = morph;
+  if (shape != nullptr) {
+    r["shape"] = shape_report;
+    r["design"]["size"] = nullptr;
+  }
   r["warnings"] = out.warnings;
   r["seconds"]["distance_field"] = field_seconds;
   r["seconds"]["sample"] = sample_seconds;
@@ -336,7 +384,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
       for (int i = 0; i < lat.nodes[0]; ++i) {
         const std::size_t id = lat.index(i, j, k);
         const int at[3] = {i, j, k};
-        inside[at[ramp.axis]] += lat.a[id] > float(final_level) && !lat.removed[id];
+        inside[at[ramp.axis]] += lat.value(id, final_level) > 0.0 && !lat.removed[id];
       }
   const double per_layer = double(lat.count()) / layers;
   const int slabs = std::max(1, int(std::lround(d.size[ramp.axis] / d.cell_size)));

@@ -46,9 +46,20 @@ struct ScaffoldPart {
   std::vector<std::string> warnings;
 };
 
-// phi: the member's field (whole grid, ghost >= 1). Throws std::invalid_argument on a design
-// out of range and ClosedCellError on a closed-cell part (nothing to write).
-ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d);
+// A user's part to fill instead of the box (--shape): a closed mesh in output units, and the
+// thickness of a dense skin inside its surface (0: none). The lattice covers its bounding box
+// with a margin, is cut to the shape (capped on its surface) and the porosity target holds
+// over the shape's volume. Without a skin every pore must reach the outside.
+struct ShapeFill {
+  TriMesh mesh;
+  double skin = 0.0;
+};
+
+// phi: the member's field (whole grid, ghost >= 1); shape: fill it instead of d.size's box.
+// Throws std::invalid_argument on a design out of range and ClosedCellError on a closed-cell
+// part (nothing to write).
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
+                             const ShapeFill* shape = nullptr);
 
 // A graded part (issue 17, paper Fig. 2): the porosity ramps linearly from `from` at the low
 // end of the axis to `to` at the high end.

@@ -20,6 +20,11 @@ check_usage n.stl --porosity "${s[@]}" --porosity 0.8:0.8
 check_usage o.stl --axis "${s[@]}" --porosity 0.8:0.6 --axis w
 check_usage p.stl --graded-members "${s[@]}" --porosity 0.8:0.6 --graded-members 1
 check_usage q.stl --compare-nodal "${s[@]}" --porosity 0.8:0.6 --compare-nodal
+check_usage r.stl --skin "${s[@]}" --porosity 0.7 --skin 0.2
+check_usage s.stl --shape "${s[@]}" --porosity 0.7 --shape "$work/nosuch.stl"
+printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid x\n' >"$work/open.stl"
+check_usage t.stl --shape "${s[@]}" --porosity 0.7 --shape "$work/open.stl"
+check_usage u.stl --size "${s[@]}" --porosity 0.7 --shape "$work/open.stl" --size 4
 if [ -e "$work/cache" ]; then echo "FAIL: a member was computed for bad input"; fail=1; fi
 [ "$fail" -eq 0 ] && echo "scaffold_bad_options: all passed"
 exit "$fail"
