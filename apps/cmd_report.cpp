@@ -6,7 +6,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "report_page.h"
+#include "pipeline/run_page.h"
 
 namespace cmcsurf::cli {
 

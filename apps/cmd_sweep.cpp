@@ -16,7 +16,8 @@
 #include "io/vti.h"
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
-#include "report_page.h"
+#include "page_options.h"
+#include "pipeline/run_page.h"
 #include "run_control.h"
 
 namespace cmcsurf::cli {

@@ -1,8 +1,10 @@
-#include "report_page.h"
+#include "pipeline/run_page.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -14,16 +16,9 @@
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 
-namespace cmcsurf::cli {
+namespace cmcsurf {
 
 namespace fs = std::filesystem;
-
-void add_page_options(CLI::App& app, PageOptions& options) {
-  app.add_flag("--no-preview", options.no_preview,
-               "Do not draw preview.png (sweep: nor gallery.png)");
-  app.add_flag("--no-report", options.no_report,
-               "Do not write report.html (`cmcsurf report DIR` writes it later)");
-}
 
 namespace {
 
@@ -262,4 +257,4 @@ double write_gallery(const fs::path& dir, const std::vector<GalleryMember>& memb
   return seconds_since(t0);
 }
 
-}  // namespace cmcsurf::cli
+}  // namespace cmcsurf

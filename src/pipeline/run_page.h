@@ -1,23 +1,17 @@
-// The pictures and pages of a run or sweep folder (docs/report.md): --no-preview and
-// --no-report, and report.html, which is made from the folder's files alone (report.json,
-// history.csv, curvature_histogram.csv, field.vti; for a sweep also sweep.json, sweep.csv,
-// families.png and each member's folder), so `cmcsurf report DIR` remakes it at any time.
+// The pages of a run or sweep folder (docs/report.md): report.html, made from the folder's
+// files alone (report.json, history.csv, curvature_histogram.csv, field.vti; for a sweep also
+// sweep.json, sweep.csv, families.png and each member's folder), so `cmcsurf report DIR`
+// remakes it at any time; and a sweep's gallery.png. The CLI (run, sweep, report) and the
+// Python module (Result.save) call these.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "render/draw_surface.h"
 
-namespace cmcsurf::cli {
-
-struct PageOptions {
-  bool no_preview = false;  // run, sweep: no preview.png (and no gallery.png)
-  bool no_report = false;   // run, sweep: no report.html at the end
-};
-void add_page_options(CLI::App& app, PageOptions& options);
+namespace cmcsurf {
 
 // Writes dir/report.html for a run folder; returns its wall time in seconds. Throws
 // std::runtime_error naming the file that is missing or unreadable.
@@ -37,4 +31,4 @@ struct GalleryMember {
 // centred on H = 0, beside dir/families.png if it exists. Returns the stage's wall time.
 double write_gallery(const std::filesystem::path& dir, const std::vector<GalleryMember>& members);
 
-}  // namespace cmcsurf::cli
+}  // namespace cmcsurf
