@@ -3,8 +3,11 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
@@ -12,6 +15,7 @@
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "multigrid/fas.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
 
@@ -22,6 +26,22 @@ std::string version_string() { return CMCSURF_VERSION; }
 std::string plus_minus(double error) {
   return std::isfinite(error) ? fmt::format(" +- {:.1e}", error) : std::string();
 }
+
+namespace {
+
+// An integer option's text through the library's check (pipeline/option_checks.h), so that
+// Python says the same; text that is no integer is left to CLI11 ("Could not convert").
+std::function<std::string(const std::string&)> library_check(std::string (*check)(long long)) {
+  return [check](const std::string& text) -> std::string {
+    errno = 0;
+    char* end = nullptr;
+    const long long v = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0') return {};
+    return check(v);  // beyond long long: clamped, and refused as such
+  };
+}
+
+}  // namespace
 
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface) {
   if (with_surface)
@@ -57,7 +77,9 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
       ->capture_default_str();
   app.add_option("--radius", p.radius, "Sphere radius (surface sphere), in (0, 0.5)")
       ->capture_default_str();
-  app.add_option("--seed", p.seed, "Random seed (surface noise)")->capture_default_str();
+  app.add_option("--seed", p.seed, "Random seed (surface noise)")
+      ->check(library_check(check_seed))
+      ->capture_default_str();
   auto* g = app.add_option_group("solver", "Multigrid and algorithm details");
   g->add_option("--mg-tol", p.solver.tol,
                 "V-cycles stop when the defect norm sqrt(mean (dt d_phi)^2 + mean d_nu^2) "
@@ -124,7 +146,7 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
 
 void add_threads_option(CLI::App& app, int& threads) {
   app.add_option("--threads", threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
-      ->check(CLI::Range(0, 4096))
+      ->check(library_check(check_threads), "0 <= T <= " + std::to_string(kMaxThreads))
       ->capture_default_str();
 }
 

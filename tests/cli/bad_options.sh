@@ -19,6 +19,8 @@ expect_usage --max-steps   run --max-steps 0
 expect_usage --tol         run --tol -1
 expect_usage --radius      run --surface sphere --radius 0.7
 expect_usage --threads     run --threads -1
+expect_usage --threads     run --threads 5000
+expect_usage --seed        run --surface noise --seed -1
 expect_usage --dt-max-factor run --dt-max-factor 0.25
 expect_usage --mg-rtol     run --fast --mg-rtol 1
 expect_usage --coarse-levels run --grid 32 --coarse-levels 3
