@@ -1,16 +1,24 @@
 // The checkpoint reader (io/checkpoint.h) on arbitrary bytes: it either returns a state whose
-// fields are finite whole grids on the cursor's N, or throws CheckpointError. Each input is
-// read twice: as it is (the checksums catch almost every mutation), and with both CRC-32s
-// recomputed, so that mutations reach the CBOR header and the checks behind the checksums.
+// fields are finite whole grids on the cursor's N and whose parameters pass the command line's
+// checks, or throws CheckpointError. Each input is read twice: as it is (the checksums catch
+// almost every mutation), and with both CRC-32s recomputed, so that mutations reach the CBOR
+// header and the checks behind the checksums. A state the reader returns then goes through
+// resume_problem (pipeline/cmc.h) for both ways `run`/`sweep --resume` continue a checkpoint,
+// and where that accepts it, through the run's restore up to its first time step (stopped
+// there by its control), which must give back the same position. `parsed` means that one of
+// the two accepted it: a bad-* seed must be refused by the reader or by both.
 #include <zlib.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "fuzz_target.h"
 #include "io/checkpoint.h"
+#include "io/run_report.h"
+#include "pipeline/cmc.h"
 
 namespace {
 
@@ -42,9 +50,42 @@ std::vector<unsigned char> with_valid_checksums(Input input) {
   return b;
 }
 
+// Continues the checkpoint as `entry` would and stops before the first time step: the run
+// must stop there (no step taken) at the checkpoint's own position, with its phi.
+bool restore_and_stop(const cmcsurf::CheckpointFile& f, cmcsurf::RunEntry entry) {
+  using namespace cmcsurf;
+  const RunParams params = params_from_json(f.params);
+  const Checkpoint& c = f.checkpoint;
+  if (!resume_problem(c, params, entry).empty()) return false;  // run_cmc would throw
+  RunContext context;
+  context.resume = std::make_shared<const Checkpoint>(c);
+  context.control = [] { return RunControl::kStop; };
+  try {
+    if (entry == RunEntry::kCmc)
+      run_cmc(params, context);
+    else
+      relax_to_volume_fraction(Field(), params, context);
+  } catch (RunInterrupted& stop) {
+    const Checkpoint& s = stop.checkpoint;
+    require(s.step == c.step && s.cursor.grid == c.cursor.grid &&
+                s.cursor.stage == c.cursor.stage && s.cursor.stage_steps == c.cursor.stage_steps,
+            "a restored run stopped elsewhere than its checkpoint");
+    const Field& a = s.result.phi;
+    const Field& b = c.result.phi;
+    for (int k = 0; k < b.n(); ++k)
+      for (int j = 0; j < b.n(); ++j)
+        for (int i = 0; i < b.n(); ++i)
+          require(a(i, j, k) == b(i, j, k), "a restored run changed phi before its first step");
+    return true;
+  }
+  require(false, "a restored run took steps (or finished) without asking its control");
+  return false;
+}
+
 Outcome read(Input bytes) {
   cmcsurf::CheckpointReadOptions options;
   options.max_n = 64;
+  options.require_build.clear();  // the seeds outlive the build that wrote them
   cmcsurf::CheckpointFile f;
   try {
     f = cmcsurf::parse_checkpoint(bytes, options, "fuzz input");
@@ -58,7 +99,14 @@ Outcome read(Input bytes) {
     for (int j = 0; j < phi.n(); ++j)
       for (int i = 0; i < phi.n(); ++i) require(std::isfinite(phi(i, j, k)), "phi not finite");
   require(cmcsurf::halo_is_current(phi), "phi has stale ghosts");
-  return Outcome::parsed;
+  try {
+    cmcsurf::params_from_json(f.params);
+  } catch (const std::runtime_error&) {
+    require(false, "the reader returned parameters that params_from_json refuses");
+  }
+  const bool as_run = restore_and_stop(f, cmcsurf::RunEntry::kCmc);
+  const bool as_member = restore_and_stop(f, cmcsurf::RunEntry::kRelaxToVolume);
+  return as_run || as_member ? Outcome::parsed : Outcome::refused;
 }
 
 }  // namespace

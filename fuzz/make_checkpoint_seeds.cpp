@@ -1,8 +1,8 @@
 // Writes the valid seeds of fuzz/corpus/checkpoint/ with the real writer, and the broken ones
-// as small edits of them. Not part of any build; from the repository root:
+// as small edits of them or as hostile states written by it. Not part of any build; from the
+// repository root, with a Release build in build-rel (its library; no MPI):
 //   g++ -std=c++20 -O1 -fopenmp -Isrc -DCMCSURF_VERSION='"0.1.0"' fuzz/make_checkpoint_seeds.cpp \
-//       src/io/checkpoint.cpp src/io/atomic_file.cpp src/grid/field.cpp src/grid/halo.cpp \
-//       src/parallel/decomposition.cpp -lfmt -lz -o /tmp/make_checkpoint_seeds \
+//       build-rel/libcmcsurf_lib.a -lfmt -lz -lmuparser -o /tmp/make_checkpoint_seeds \
 //     && /tmp/make_checkpoint_seeds
 #include <cmath>
 #include <cstdint>
@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <functional>
 #include <string>
 
 #include <zlib.h>
 
 #include "io/checkpoint.h"
+#include "io/run_report.h"
 
 namespace fs = std::filesystem;
 using cmcsurf::Field;
@@ -33,28 +35,51 @@ Field smooth(int n, int ghost, double shift) {
   return f;
 }
 
-cmcsurf::Checkpoint state(int n, bool stepper_fields) {
+// A consistent state before step 3 of a 8^3 run: in the relaxation, or in the first mass
+// correction's relaxation with all four stepper fields; or (coarse) before the second
+// pre-relaxation step on the 8^3 level of a 16^3 run with one coarse level.
+enum class Kind { kRelax, kVolume, kCoarsePrerelax };
+
+cmcsurf::RunParams params_of(Kind kind) {
+  cmcsurf::RunParams p;
+  p.surface = "G";
+  p.volume_fraction = 0.3;
+  p.grid = kind == Kind::kCoarsePrerelax ? 16 : 8;
+  p.epsilon = 0.1;
+  p.coarse_levels = kind == Kind::kCoarsePrerelax ? 1 : 0;
+  p.solver.extrapolate = kind == Kind::kVolume;
+  return p;
+}
+
+cmcsurf::Checkpoint state(Kind kind) {
+  const int n = 8;
+  const int steps = kind == Kind::kCoarsePrerelax ? 1 : 2;
   cmcsurf::Checkpoint c;
   c.cursor.grid = n;
-  c.cursor.stage = stepper_fields ? "volume" : "relax";
-  c.cursor.stage_steps = 2;
+  c.cursor.stage = kind == Kind::kRelax ? "relax" : kind == Kind::kVolume ? "volume" : "prerelax";
+  c.cursor.stage_steps = steps;
   c.cursor.dt = 0.5 / n;
   c.cursor.area = 2.3;
   c.cursor.volume = 0.31;
-  c.step = 2;
-  c.time = 1.0 / n;
+  c.step = steps;
+  c.time = steps * c.cursor.dt;
+  c.elapsed = 0.25;
   c.result.phi = smooth(n, 2, 0.5);
-  for (int s = 1; s <= 2; ++s) {
+  for (int s = 1; s <= steps; ++s) {
     cmcsurf::StepRecord r;
     r.step = s;
     r.stage = c.cursor.stage;
     r.time = s * c.cursor.dt;
     r.dt = c.cursor.dt;
     r.area = 2.3;
+    r.vcycles = 3;
     c.result.history.push_back(r);
   }
-  c.result.steps = 2;
-  if (stepper_fields) {
+  c.result.vcycles = 3 * steps;
+  c.result.steps = kind == Kind::kCoarsePrerelax ? 0 : steps;
+  if (kind == Kind::kVolume) {
+    c.result.volume_constrained = true;
+    c.result.volume_iterates.push_back({0.3, 0.29, 0, true});
     c.stepper.nu_valid = c.stepper.history_valid = true;
     c.stepper.prev_dt = c.cursor.dt;
     c.stepper.nu = smooth(n, 1, 0.0);
@@ -93,14 +118,30 @@ std::string edit(std::string s, const std::string& from, const std::string& to) 
   return s.replace(at, from.size(), to);
 }
 
+// A state written by the real writer after `edit`: valid checksums, hostile contents.
+std::string written(Kind kind, const std::function<void(cmcsurf::Checkpoint&,
+                                                        nlohmann::json&)>& edit) {
+  cmcsurf::Checkpoint c = state(kind);
+  nlohmann::json params = cmcsurf::params_json(params_of(kind));
+  edit(c, params);
+  const fs::path tmp = kDir / "tmp.bin";
+  cmcsurf::write_checkpoint(tmp, params, c);
+  std::string s = slurp(tmp);
+  fs::remove(tmp);
+  return s;
+}
+
 }  // namespace
 
 int main() {
   fs::create_directories(kDir);
-  const nlohmann::json params = {{"grid", 4}, {"surface", "G"}, {"volume_fraction", 0.3}};
-  cmcsurf::write_checkpoint(kDir / "ok-relax-4.bin", params, state(4, false));
-  cmcsurf::write_checkpoint(kDir / "ok-volume-4-stepper.bin", params, state(4, true));
-  const std::string a = slurp(kDir / "ok-relax-4.bin");
+  for (const auto& e : fs::directory_iterator(kDir))
+    if (e.path().filename().string().rfind("crash-", 0) != 0) fs::remove(e.path());
+  auto same = [](cmcsurf::Checkpoint&, nlohmann::json&) {};
+  const std::string a = written(Kind::kRelax, same);
+  put("ok-relax-8.bin", a);
+  put("ok-volume-8-stepper.bin", written(Kind::kVolume, same));
+  put("ok-prerelax-coarse-level.bin", written(Kind::kCoarsePrerelax, same));
   std::uint64_t header = 0;
   std::memcpy(&header, a.data() + 16, 8);
   const std::size_t data = 24 + header;
@@ -130,6 +171,51 @@ int main() {
     put("bad-header-length.bin", s);
   }
   put("bad-stage.bin", with_checksums(edit(a, "relax", "relay")));
-  put("bad-version.bin", with_checksums(edit(a, "0.1.0", "9.1.0")));
+  // CBOR's text string of 5 bytes: the version, not the build identity that starts with it.
+  put("bad-version.bin", with_checksums(edit(a, "\x65" "0.1.0", "\x65" "9.1.0")));
+  // The zero-length header the first fuzzing run found (docs/reliability.md), in this format.
+  {
+    std::string s = "CMCSCKPT";
+    const std::uint32_t format = cmcsurf::kCheckpointFormat, crc = 0;
+    const std::uint64_t zero = 0;
+    s.append(reinterpret_cast<const char*>(&format), 4);
+    s.append(reinterpret_cast<const char*>(&crc), 4);
+    s.append(reinterpret_cast<const char*>(&zero), 8);
+    s.append(std::string(4, '\0') + "CKPTDONE");
+    put("crash-empty-header.bin", s);
+  }
+
+  // Valid checksums, hostile contents (issue 14's audit): parameters out of range, a stage
+  // grid off the run's levels, seconds no clock holds (the reader refuses these) ...
+  put("bad-params-epsilon.bin", written(Kind::kRelax, [](auto&, auto& p) { p["epsilon"] = 2.0; }));
+  put("bad-params-nan.bin",
+      written(Kind::kRelax, [](auto&, auto& p) { p["tol"] = std::nan(""); }));
+  put("bad-params-grid.bin", written(Kind::kRelax, [](auto&, auto& p) { p["grid"] = 50; }));
+  put("bad-cursor-off-level.bin",
+      written(Kind::kCoarsePrerelax, [](auto&, auto& p) { p["coarse_levels"] = 0; }));
+  put("bad-elapsed.bin", written(Kind::kRelax, [](auto& c, auto&) { c.elapsed = 1e300; }));
+  // ... and states no run of those parameters reaches (resume_problem refuses them; before,
+  // they reached a back() on an empty vector, a CHECK or a signed overflow).
+  put("bad-volume-no-iterates.bin", written(Kind::kVolume, [](auto& c, auto&) {
+        c.result.volume_iterates.clear();
+      }));
+  put("bad-volume-correction.bin", written(Kind::kVolume, [](auto& c, auto& p) {
+        c.cursor.correction = p["max_volume_corrections"].template get<int>();
+      }));
+  put("bad-coarse-level-of-sphere.bin", written(Kind::kCoarsePrerelax, [](auto&, auto& p) {
+        p["surface"] = "sphere";
+      }));
+  put("bad-prerelax-on-finest.bin", written(Kind::kCoarsePrerelax, [](auto&, auto& p) {
+        p["grid"] = 8;
+        p["coarse_levels"] = 0;
+        p["prerelax_steps"] = 1;  // the cursor is before pre-relaxation step 2 of 1
+      }));
+  put("bad-step-overflow.bin", written(Kind::kRelax, [](auto& c, auto&) {
+        c.step = 2147483647;
+        c.result.history.back().step = c.step;
+      }));
+  put("bad-vcycles-overflow.bin", written(Kind::kRelax, [](auto& c, auto&) {
+        c.result.vcycles = 9223372036854775807L;
+      }));
   return 0;
 }

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
+#include "io/run_report.h"
 
 namespace cmcsurf {
 
@@ -174,17 +175,21 @@ void check_state(const CheckpointFile& f, int max_n) {
     fail(fmt::format("unknown stage '{}' (prerelax, relax or volume)", k.stage));
   if (k.grid < 2 || k.grid > max_n)
     fail(fmt::format("grid {} outside [2, {}]", k.grid, max_n));
-  if (!f.params.is_object() || !f.params.contains("grid") || !f.params["grid"].is_number_integer())
-    fail("no parameters");
-  if (f.params["grid"].get<long long>() < k.grid)
-    fail(fmt::format("stage grid {} above the run's grid {}", k.grid,
-                     f.params["grid"].get<long long>()));
+  // The parameters pass the command line's checks; the stage's grid is N / 2^k of the run's.
+  const RunParams p = params_from_json(f.params);
+  bool on_a_level = false;
+  for (int levels = 0; levels <= p.coarse_levels; ++levels)
+    on_a_level = on_a_level || k.grid == p.grid >> levels;
+  if (!on_a_level)
+    fail(fmt::format("stage grid {} is not the run's grid {} or one of its {} coarse level(s)",
+                     k.grid, p.grid, p.coarse_levels));
+  if (!f.outputs.is_object()) fail("'outputs' is not an object");
   if (!(std::isfinite(k.dt) && k.dt > 0.0)) fail(fmt::format("time step {} not positive", k.dt));
   if (k.stage_steps < 0 || k.correction < 0 || c.step < 0)
     fail("negative step or correction count");
   if (!std::isfinite(k.area) || !std::isfinite(k.volume) || !std::isfinite(k.slope) ||
-      !std::isfinite(c.time))
-    fail("non-finite position");
+      !std::isfinite(c.time) || !(std::isfinite(c.elapsed) && c.elapsed >= 0.0 && c.elapsed <= 1e9))
+    fail("non-finite position, or elapsed seconds outside [0, 1e9]");
   if (c.stepper.history_valid && !(std::isfinite(c.stepper.prev_dt) && c.stepper.prev_dt > 0.0))
     fail("the stepper's previous time step is not positive");
   if (!c.result.history.empty() && c.result.history.back().step != c.step)
@@ -222,7 +227,9 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
   try {
     const nlohmann::json h = nlohmann::json::from_cbor(header);
     h.at("version").get_to(f.version);
+    h.at("build").get_to(f.build);
     f.params = h.at("params");
+    f.outputs = h.at("outputs");
     Checkpoint& c = f.checkpoint;
     h.at("cursor").get_to(c.cursor);
     const nlohmann::json& s = h.at("state");
@@ -237,14 +244,24 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     result_from_json(h.at("result"), c.result);
     for (const nlohmann::json& fj : h.at("fields"))
       fields.emplace_back(fj.at("name").get<std::string>(), fj.at("n").get<long long>());
-    check_state(f, options.max_n);
-  } catch (const std::exception& e) {  // nlohmann's parse, type and key errors, check_state's
+  } catch (const std::exception& e) {  // nlohmann's parse, type and key errors
     throw error(fmt::format("the header is not a valid checkpoint header: {}", e.what()));
   }
   if (!options.require_version.empty() && f.version != options.require_version)
     throw error(fmt::format("written by cmcsurf {}, this is {}: a run resumes only with the "
                             "version that started it (another build may take other V-cycles)",
                             f.version, options.require_version));
+  if (!options.require_build.empty() && f.build != options.require_build)
+    throw error(fmt::format(
+        "written by {}; this is {}: a run resumes only with the build that started it (another "
+        "compiler, flag or commit may take other V-cycles, so the promise of the same bits "
+        "would not hold); finish it with that build, or start the run again",
+        f.build, options.require_build));
+  try {
+    check_state(f, options.max_n);
+  } catch (const std::exception& e) {  // params_from_json's and the cursor's checks
+    throw error(fmt::format("the header is not a valid checkpoint header: {}", e.what()));
+  }
 
   // The fields the header names must be the ones its stepper flags imply, all on the
   // cursor's grid, and fill the rest of the file exactly: checked before allocating.
@@ -297,11 +314,13 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
 }  // namespace
 
 void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& params,
-                      const Checkpoint& c) {
+                      const Checkpoint& c, const nlohmann::json& outputs) {
   const std::vector<NamedField> fields = fields_of(c);
   nlohmann::json h;
   h["version"] = CMCSURF_VERSION;
+  h["build"] = build_identity();
   h["params"] = params;
+  h["outputs"] = outputs;
   h["cursor"] = c.cursor;
   h["state"] = {{"step", c.step},
                 {"time", c.time},

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <vector>
 
@@ -105,6 +107,62 @@ TEST(Checkpoint, RefusesTruncatedCorruptedAndForeignFiles) {
   CheckpointReadOptions small;
   small.max_n = 8;
   EXPECT_NE(error_of(good, small).find("grid 16 outside"), std::string::npos);
+}
+
+// A checkpoint of another build (compiler, flags or commit) is refused, naming both builds.
+TEST(Checkpoint, RefusesAnotherBuildNamingBoth) {
+  const std::vector<unsigned char>& good = sample().bytes;
+  EXPECT_EQ(parse_checkpoint(good).build, build_identity());
+  CheckpointReadOptions other;
+  other.require_build = "cmcsurf 0.1.0 (commit 000000000000, GNU 1.0, Release: -O0, x86-64)";
+  const std::string why = error_of(good, other);
+  EXPECT_NE(why.find("written by " + build_identity()), std::string::npos) << why;
+  EXPECT_NE(why.find("this is " + other.require_build), std::string::npos) << why;
+  EXPECT_NE(build_identity().find(build_info().commit), std::string::npos);
+  EXPECT_NE(build_identity().find(build_info().flags), std::string::npos);
+}
+
+// Valid checksums, hostile contents: parameters outside the command line's ranges, a stage
+// grid that is no level of the run, seconds no clock holds. Each is refused by name.
+TEST(Checkpoint, RefusesHostileContentsBehindValidChecksums) {
+  const Sample& s = sample();
+  TempDir tmp("cmcsurf-ckpt");
+  auto error_with = [&](nlohmann::json params, const std::function<void(Checkpoint&)>& edit) {
+    Checkpoint c = s.checkpoint;
+    edit(c);
+    write_checkpoint(tmp / "h.bin", params, c);
+    try {
+      read_checkpoint(tmp / "h.bin");
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const nlohmann::json p = params_json(s.params);
+  auto with = [&](const char* key, nlohmann::json value) {
+    nlohmann::json q = p;
+    q[key] = std::move(value);
+    return q;
+  };
+  const auto same = [](Checkpoint&) {};
+  EXPECT_EQ(error_with(p, same), "");
+  EXPECT_NE(error_with(with("epsilon", 2.0), same).find("--epsilon: got 2"), std::string::npos);
+  EXPECT_NE(error_with(with("tol", std::nan("")), same).find("--tol"), std::string::npos);
+  EXPECT_NE(error_with(with("grid", 50), same).find("--grid"), std::string::npos);
+  EXPECT_NE(error_with(with("max_vcycles", 0), same).find("--max-vcycles"), std::string::npos);
+  EXPECT_NE(error_with(with("coarsest_reduction", 1.5), same).find("coarsest_reduction"),
+            std::string::npos);
+  EXPECT_NE(error_with(with("surface", "nonesuch"), same).find("--surface"), std::string::npos);
+  EXPECT_NE(error_with(p, [](Checkpoint& c) { c.elapsed = 1e300; }).find("elapsed"),
+            std::string::npos);
+  // Grid 8 is a level of a 16^3 run only with a coarse level (and then its fields are 8^3).
+  const std::string off_level = error_with(p, [](Checkpoint& c) {
+    c.cursor.grid = 8;
+    c.result.phi = Field(8, 2);
+    for (Field* f : {&c.stepper.nu, &c.stepper.prev_phi, &c.stepper.prev_nu}) *f = Field(8, 1);
+  });
+  EXPECT_NE(off_level.find("stage grid 8 is not the run's grid 16"), std::string::npos)
+      << off_level;
 }
 
 TEST(Checkpoint, ReadsFromAFileAndNamesIt) {

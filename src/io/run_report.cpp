@@ -11,7 +11,9 @@
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
+#include "io/build_info.h"
 #include "io/csv.h"
+#include "pipeline/run_options.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -101,6 +103,11 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   take("post_sweeps", p.solver.fas.post_sweeps);
   take("coarsest_max_sweeps", p.solver.fas.coarsest_max_sweeps);
   take("coarsest_reduction", p.solver.fas.coarsest_reduction);
+  try {
+    check_run_params(p, true);  // the command line's own checks (pipeline/run_options.h)
+  } catch (const OptionError& e) {
+    throw std::runtime_error(fmt::format("parameter out of range: {}", e.what()));
+  }
   return p;
 }
 
@@ -132,6 +139,7 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   const bool nodal = is_nodal_surface(p.surface);
   nlohmann::json j;
   j["version"] = CMCSURF_VERSION;
+  j["build"] = build_info_json();  // what a checkpoint must share (io/build_info.h)
   j["surface"] = p.surface;
   j["grid"] = p.grid;
   j["h"] = p.h();

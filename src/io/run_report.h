@@ -13,7 +13,8 @@ namespace cmcsurf {
 nlohmann::json params_json(const RunParams& p);
 // The inverse of params_json (a checkpoint's or sweep.json's parameters): every key must be
 // present with its type, except that keys missing from a sweep's shared parameters (surface,
-// volume_fraction) keep `base`'s values. Throws std::runtime_error naming the bad key.
+// volume_fraction) keep `base`'s values, and every value must pass the command line's range
+// checks (check_run_params). Throws std::runtime_error naming the bad key or range.
 RunParams params_from_json(const nlohmann::json& j, const RunParams& base = {});
 nlohmann::json measures_json(const Measures& m);
 

@@ -71,6 +71,18 @@ TEST(RunReport, ParametersReadBackExactly) {
   j = params_json(p);
   j.erase("grid");
   EXPECT_THROW(params_from_json(j), std::runtime_error);
+  // Values the command line would refuse are refused here too (check_run_params).
+  for (const auto& [key, bad] : {std::pair<const char*, nlohmann::json>{"epsilon", 0.0},
+                                 {"grid", 50},
+                                 {"tol", std::numeric_limits<double>::infinity()},
+                                 {"dt_factor", -1.0},
+                                 {"coarse_levels", 5},
+                                 {"pre_sweeps", 0}}) {
+    j = params_json(p);
+    j[key] = bad;
+    if (std::string(key) == "pre_sweeps") j["post_sweeps"] = 0;
+    EXPECT_THROW(params_from_json(j), std::runtime_error) << key << " = " << bad;
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "measure/measures.h"
 #include "multigrid/fas.h"
+#include "pipeline/continuation.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
@@ -131,7 +132,98 @@ void shift_mean(Field& phi, double alpha) {
   phi.exchange_halo();
 }
 
+std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntry entry,
+                           const Decomposition* d) {
+  const RunCursor& k = c.cursor;
+  const RunResult& r = c.result;
+  // The grids the run passes through, finest first (run_cmc_stages' rule), and its stages.
+  const bool nodal = is_nodal_surface(params.surface);
+  const bool direct = entry == RunEntry::kRelax || (entry == RunEntry::kCmc && !nodal);
+  std::vector<int> grids = {params.grid};
+  if (entry == RunEntry::kCmc && nodal)
+    for (int g = params.grid, levels = params.coarse_levels;
+         levels > 0 && check_coarsenable(g / 2).empty() && (!d || d->splits(g / 2));
+         g /= 2, --levels)
+      grids.push_back(g / 2);
+  if (d && !d->splits(params.grid))
+    return fmt::format("the run's grid {} cannot be split over {} processes", params.grid,
+                       d->ranks());
+  const auto at = std::find(grids.begin(), grids.end(), k.grid);
+  if (at == grids.end())
+    return fmt::format("the checkpoint's grid {} is not one this run passes through (grid {}, "
+                       "{} coarse level(s) here)",
+                       k.grid, params.grid, grids.size() - 1);
+  const bool coarsest = at + 1 == grids.end();
+  const bool prerelax_allowed = !direct && entry != RunEntry::kRelaxToVolume && coarsest;
+  const bool volume_allowed = !direct && nodal && params.constrain == Constraint::kVolume;
+  if (k.stage == "prerelax" ? !prerelax_allowed
+                            : k.stage == "volume" ? !volume_allowed : k.stage != "relax")
+    return fmt::format("stage '{}' on grid {} is not one of this run's", k.stage, k.grid);
+  if (r.phi.n() != k.grid || (c.stepper.nu_valid && c.stepper.nu.n() != k.grid) ||
+      (c.stepper.history_valid &&
+       (c.stepper.prev_phi.n() != k.grid || c.stepper.prev_nu.n() != k.grid)))
+    return fmt::format("its fields are not on the stage's grid {}", k.grid);
+
+  // Counts: the history holds every step; each counter lies within it.
+  if (c.step < 0 || std::size_t(c.step) != r.history.size())
+    return fmt::format("{} steps taken but {} in the history", c.step, r.history.size());
+  long vcycles = 0;
+  for (const StepRecord& s : r.history) {
+    if (s.vcycles < 0 || s.vcycles > params.solver.max_vcycles)
+      return fmt::format("step {} took {} V-cycles (limit {})", s.step, s.vcycles,
+                         params.solver.max_vcycles);
+    vcycles += s.vcycles;
+  }
+  if (r.vcycles != vcycles)
+    return fmt::format("{} V-cycles counted, {} in the history", r.vcycles, vcycles);
+  for (const int n : {r.steps, r.volume_steps, r.prerelax_steps, r.coarse_steps,
+                      r.unconverged_steps, k.stage_steps})
+    if (n < 0 || n > c.step)
+      return fmt::format("a step count ({}) outside [0, {}] (the steps taken)", n, c.step);
+  if (!(std::isfinite(c.time) && c.time >= 0.0) ||
+      !(std::isfinite(c.elapsed) && c.elapsed >= 0.0 && c.elapsed <= 1e9))
+    return fmt::format("model time {} or elapsed seconds {} out of range", c.time, c.elapsed);
+
+  // The position inside the stage's loop: before one of its steps, with its time step.
+  const double h = 1.0 / k.grid, dt0 = params.dt_factor * h;
+  const double dt_max = std::max(dt0, params.dt_max_factor * h);
+  const double slack = 1e-9 * dt0;  // dt is doubled and halved between dt0 and dt_max
+  if (k.stage == "prerelax") {
+    if (k.stage_steps >= params.prerelax_steps)
+      return fmt::format("pre-relaxation step {} of {}", k.stage_steps, params.prerelax_steps);
+    if (std::abs(k.dt - dt0) > slack)
+      return fmt::format("pre-relaxation time step {} is not dt_factor h = {}", k.dt, dt0);
+  } else {
+    if (k.stage_steps >= params.max_steps)
+      return fmt::format("{} step {} of at most {}", k.stage, k.stage_steps, params.max_steps);
+    if (!(k.dt >= dt0 - slack && k.dt <= dt_max + slack))
+      return fmt::format("time step {} outside [{}, {}] (dt_factor h, dt_max_factor h)", k.dt,
+                         dt0, dt_max);
+  }
+  if (k.stage == "volume") {
+    if (!r.volume_constrained || k.correction < 0 ||
+        k.correction >= params.max_volume_corrections ||
+        r.volume_iterates.size() != std::size_t(k.correction) + 1)
+      return fmt::format("mass correction {} (at most {}) with {} volume iterates", k.correction,
+                         params.max_volume_corrections, r.volume_iterates.size());
+    if (!(k.slope >= 0.25 && k.slope <= 4.0) || !std::isfinite(k.volume))
+      return fmt::format("secant slope {} outside [1/4, 4] or volume fraction {}", k.slope,
+                         k.volume);
+  } else if (r.volume_constrained || !r.volume_iterates.empty()) {
+    return fmt::format("volume iterates before the volume stage ('{}')", k.stage);
+  }
+  return {};
+}
+
 namespace {
+
+// Refuses a checkpoint that `entry` cannot continue (instead of failing a CHECK inside).
+void check_resumable(const RunParams& params, const RunContext& context, RunEntry entry) {
+  if (!context.resume) return;
+  const std::string problem =
+      resume_problem(*context.resume, params, entry, context.decomposition.get());
+  if (!problem.empty()) throw std::invalid_argument("cannot resume this checkpoint: " + problem);
+}
 
 // The time loop shared by the CMC algorithm and direct relaxations.
 class Evolution {
@@ -456,11 +548,13 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
 }  // namespace
 
 RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
+  check_resumable(params, context, RunEntry::kRelax);
   return relax_from(phi0, params, context, false);
 }
 
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
                                    const RunContext& context) {
+  check_resumable(params, context, RunEntry::kRelaxToVolume);
   const bool hold = params.constrain == Constraint::kVolume && is_nodal_surface(params.surface);
   return relax_from(phi0, params, context, hold);
 }
@@ -491,7 +585,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
 
   RunResult result;
   result.phi = Field(params.grid, 2, context.decomposition);
-  prolongate_trilinear(coarse.phi, result.phi);
+  prolongate_profile(coarse.phi, result.phi);
   result.history = coarse.history;
   for (StepRecord& r : result.history) r.stage = fmt::format("{}@{}", r.stage, coarse_params.grid);
   result.coarse_steps = coarse.steps + coarse.prerelax_steps + coarse.coarse_steps;
@@ -510,29 +604,6 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
 
 }  // namespace
 
-void prolongate_trilinear(const Field& coarse, Field& fine) {
-  // Cell-centred linear interpolation: a fine cell's centre lies a quarter of a coarse cell
-  // from its parent's centre, so per axis the weights are 3/4 (parent) and 1/4 (neighbour).
-  // Blocks: the fine block starts at twice the coarse block's offset (even), so i / 2 and
-  // i % 2 hold for block indices too.
-  const int nfx = fine.nx(), nfy = fine.ny(), nfz = fine.nz();
-#pragma omp parallel for schedule(static) if (nfx >= kParallelMinN)
-  for (int k = 0; k < nfz; ++k)
-    for (int j = 0; j < nfy; ++j)
-      for (int i = 0; i < nfx; ++i) {
-        const int ci = i / 2, cj = j / 2, ck = k / 2;
-        const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
-        double v = 0.0;
-        for (int c = 0; c < 8; ++c) {
-          const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
-          const double w = (a ? 0.25 : 0.75) * (b ? 0.25 : 0.75) * (d ? 0.25 : 0.75);
-          v += w * coarse(ci + a * di, cj + b * dj, ck + d * dk);
-        }
-        fine(i, j, k) = v;
-      }
-  fine.exchange_halo();
-}
-
 namespace {
 
 InitialFieldParams initial_field_params(const RunParams& params) {
@@ -548,6 +619,7 @@ InitialFieldParams initial_field_params(const RunParams& params) {
 }  // namespace
 
 RunResult run_cmc(const RunParams& params, const RunContext& context) {
+  check_resumable(params, context, RunEntry::kCmc);
   if (!is_nodal_surface(params.surface)) {  // sphere, cube, noise: a direct relaxation
     if (context.resume) return relax_field(Field(), params, context);
     return relax_field(make_initial_field(initial_field_params(params), params.grid, 2,
@@ -561,6 +633,7 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
 
 RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
                              const RunContext& context) {
+  check_resumable(params, context, RunEntry::kCmcFromField);
   RunResult result = run_cmc_stages(params, context, &phi0);
   measure_final(result, params);
   return result;

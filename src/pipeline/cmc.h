@@ -12,6 +12,7 @@
 
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
+#include "pipeline/continuation.h"
 
 namespace cmcsurf {
 
@@ -206,6 +207,20 @@ struct RunContext {
   std::shared_ptr<const Checkpoint> resume;
 };
 
+// Which entry point continues a checkpoint: run_cmc, run_cmc_from_field, relax_field or
+// relax_to_volume_fraction (a sweep's continued member).
+enum class RunEntry { kCmc, kCmcFromField, kRelax, kRelaxToVolume };
+
+// Why `c` cannot be continued by `entry` with `params` on `decomposition` (null: one process
+// holds the grid), or "" when it can: its cursor must stand on a grid and in a stage that run
+// passes through (the coarse levels of the continuation, N >> k, k <= coarse_levels; the stages
+// of that grid), with its counts inside the run's limits (steps, corrections, dt between dt_factor
+// h and dt_max_factor h) and the result so far consistent with them (the history holds every
+// step, a "volume" stage its iterates). A file that passed read_checkpoint's checks can still
+// fail these; the entry points throw std::invalid_argument with this message.
+std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntry entry,
+                           const Decomposition* decomposition = nullptr);
+
 // Section 4.4: V_ave(phi, alpha, beta).
 double average_volume_fraction(const Field& phi, double alpha, double beta);
 // Section 4.4's bisection on beta in [0, 1] for V_ave(phi, alpha, beta) = alpha, as printed.
@@ -227,8 +242,6 @@ RunResult relax_field(const Field& phi0, const RunParams& params, const RunConte
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
                                    const RunContext& context = {});
 
-// Cell-centred trilinear interpolation from n to 2n (weights 3/4, 1/4 per axis; keeps the mean).
-void prolongate_trilinear(const Field& coarse, Field& fine);
 
 // Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
 // parameters the caller should have validated.

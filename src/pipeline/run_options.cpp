@@ -52,6 +52,10 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
   else
     throw OptionError(fmt::format("--constrain: got '{}'; accepted: volume, mass", s.constrain));
 
+  check_run_params(p, check_surface);
+}
+
+void check_run_params(const RunParams& p, bool check_surface) {
   if (check_surface) {
     try {
       validate_surface(p.surface);
@@ -67,10 +71,10 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
   require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
   require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
           "C > 0 (dt = C h)");
-  require(p.tol > 0.0, "--tol", p.tol, "T > 0");
+  require(p.tol > 0.0 && std::isfinite(p.tol), "--tol", p.tol, "T > 0");
   require(p.max_steps >= 1, "--max-steps", p.max_steps, "K >= 1");
   require(p.radius > 0.0 && p.radius < 0.5, "--radius", p.radius, "0 < R < 0.5");
-  require(p.solver.tol > 0.0, "--mg-tol", p.solver.tol, "> 0");
+  require(p.solver.tol > 0.0 && std::isfinite(p.solver.tol), "--mg-tol", p.solver.tol, "> 0");
   require(p.solver.rtol >= 0.0 && p.solver.rtol < 1.0, "--mg-rtol", p.solver.rtol, "0 <= R < 1");
   require(p.coarse_levels >= 0 && p.coarse_levels <= 4, "--coarse-levels", p.coarse_levels,
           "0..4");
@@ -88,13 +92,21 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
   require(p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps >= 1, "--pre-sweeps/--post-sweeps",
           p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps, "at least one sweep in total");
   require(p.prerelax_steps >= 0, "--prerelax-steps", p.prerelax_steps, ">= 0");
-  require(p.prerelax_epsilon_factor > 0.0, "--prerelax-epsilon-factor",
-          p.prerelax_epsilon_factor, "> 0");
-  require(p.bisection_tol > 0.0, "--bisection-tol", p.bisection_tol, "> 0");
+  require(p.prerelax_epsilon_factor > 0.0 && p.prerelax_epsilon_factor <= 1000.0,
+          "--prerelax-epsilon-factor", p.prerelax_epsilon_factor, "0 < F <= 1000");
+  require(p.bisection_tol > 0.0 && std::isfinite(p.bisection_tol), "--bisection-tol",
+          p.bisection_tol, "> 0");
   require(p.bisection_max_it >= 1, "--bisection-max-it", p.bisection_max_it, ">= 1");
   require(p.volume_tol > 0.0 && p.volume_tol < 0.1, "--volume-tol", p.volume_tol, "0 < T < 0.1");
   require(p.max_volume_corrections >= 0 && p.max_volume_corrections <= 100,
           "--max-volume-corrections", p.max_volume_corrections, "0..100");
+  // Not options of the command line, but parameters a checkpoint or sweep.json carries.
+  require(std::isfinite(p.noise_amplitude) && p.noise_amplitude >= 0.0, "noise_amplitude",
+          p.noise_amplitude, "finite, >= 0");
+  require(p.solver.fas.coarsest_max_sweeps >= 1, "coarsest_max_sweeps",
+          p.solver.fas.coarsest_max_sweeps, ">= 1");
+  require(p.solver.fas.coarsest_reduction > 0.0 && p.solver.fas.coarsest_reduction < 1.0,
+          "coarsest_reduction", p.solver.fas.coarsest_reduction, "0 < R < 1");
 }
 
 }  // namespace cmcsurf

@@ -37,5 +37,8 @@ int fast_coarse_levels(int grid);
 // Applies --fast, converts the strings and checks every range (the surface and the volume
 // fraction too when check_surface); throws OptionError.
 void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface);
+// The range checks alone (those of finish_run_params, plus the parameters the command line
+// does not set): for parameters read back from a checkpoint or sweep.json. Throws OptionError.
+void check_run_params(const RunParams& p, bool check_surface);
 
 }  // namespace cmcsurf
