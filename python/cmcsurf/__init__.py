@@ -14,7 +14,8 @@ m 2^k (m in {1, 3, 5, 7}, N >= 8, the multigrid's grids) or when they hold NaN o
 
 Solves release the GIL (other Python threads keep running), Ctrl-C stops a solve within one
 time step with ``KeyboardInterrupt``, and ``progress`` is called with a dict per time step
-(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed``).
+(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed``;
+in a sweep also ``member``, e.g. ``"G_0.30"``).
 """
 
 from __future__ import annotations
@@ -192,10 +193,10 @@ def measure(
     ``mean_curvature`` (sharp, of the phi = 1/2 surface, with ``area_error`` and
     ``mean_curvature_error``), ``volume_fraction``, ``mass``, ``energy``, the diffuse-layer
     ones (``area_diffuse``, ...) and the CMC-quality keys (``mean_curvature_std``, ...).
-    ``epsilon`` is the interface parameter of the diffuse and energy measures. With a nodal
-    ``surface`` the ``nodal_*`` keys compare with that nodal surface at phi's volume fraction
-    (None otherwise)."""
-    return _cmcsurf.measure(phi, float(epsilon), surface, threads)
+    ``epsilon`` is the interface parameter of the diffuse and energy measures (checked as
+    ``run``'s). With a nodal ``surface`` the ``nodal_*`` keys compare with that nodal surface at
+    phi's volume fraction (None otherwise)."""
+    return _cmcsurf.measure(phi, {"epsilon": epsilon, "surface": surface}, threads)
 
 
 def sweep(
@@ -235,6 +236,9 @@ def sweep(
     ``volume_fractions``: a sequence, or "start:stop:step" (stop included) / "a,b,c".
     ``continuation``: start each member from the previous member's field.
 
+    ``progress`` dicts carry ``member``, the member's name (``"G_0.30"``) as its folder in a
+    ``cmcsurf sweep`` folder is named.
+
     Returns ``(results, table)``: one :class:`Result` per member (surfaces outermost; each
     ``.report`` is the member's report.json, with ``member`` and ``started_from``), and the
     table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
@@ -245,7 +249,7 @@ def sweep(
         surfaces = ",".join(str(s) for s in surfaces)
     if not isinstance(volume_fractions, str):
         volume_fractions = ",".join(repr(float(a)) for a in volume_fractions)
-    results, columns = _cmcsurf.sweep(surfaces, volume_fractions, bool(continuation),
+    results, columns = _cmcsurf.sweep(surfaces, volume_fractions, continuation,
                                       _options(locals(), names), threads, progress)
     table: Dict[str, np.ndarray] = {}
     for key in columns:
@@ -266,13 +270,16 @@ def mesh(
     units: str = "mm",
     *,
     other_phase: bool = False,
+    keep_fragments: bool = False,
     threads: int = 0,
 ) -> Mesh:
     """A watertight scaffold mesh of a :class:`Result` or an (N, N, N) field, as
     ``cmcsurf mesh``: ``solid`` "surface" (the phi = 1/2 interface), "network" (the region
     phi > 1/2, capped at the box; ``other_phase`` for phi < 1/2) or "sheet" (a wall of
     ``thickness`` output units around the interface), ``tile`` unit cells along x, y, z, each
-    ``cell_size`` ``units`` wide.
+    ``cell_size`` ``units`` wide. ``keep_fragments`` (``--keep-fragments``): solids keep the
+    pieces the box cuts off (by default they are removed; ``.report["topology"]`` says how
+    many, their volume and whether they were removed).
 
     Returns a :class:`Mesh`: ``.vertices`` (n, 3) float64 (x, y, z along the field's axes i, j,
     k), ``.faces`` (m, 3) int64 (counter-clockwise seen from outside), ``.report`` (the dict of
@@ -290,8 +297,10 @@ def mesh(
         if parts is None or len(parts) != 3:
             raise TypeError(f"tile: got {tile!r}; accepted: an int A or three ints (A, B, C)")
         tile_spec = "x".join(str(t) for t in parts)
-    return _cmcsurf.mesh(source, tile_spec, float(cell_size), units, solid, bool(other_phase),
-                         0.0 if thickness is None else float(thickness), threads)
+    options = {"tile": tile_spec, "cell_size": cell_size, "units": units, "solid": solid,
+               "thickness": thickness, "other_phase": other_phase,
+               "keep_fragments": keep_fragments}
+    return _cmcsurf.mesh(source, options, threads)
 
 
 def default_options() -> Dict[str, Any]:

@@ -1,5 +1,6 @@
 # Type stubs of the compiled module (python/src/module.cpp); use the cmcsurf package's functions.
 from os import PathLike
+from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
@@ -8,48 +9,53 @@ import numpy.typing as npt
 class SolverDiverged(RuntimeError): ...
 
 class Result:
-    """A run's result: immutable, the same numbers as the command line's run folder."""
+    """A run's result: the field, report and history of one solve; immutable, the same numbers
+    as the command line's run folder."""
     @property
     def phi(self) -> npt.NDArray[np.float64]:
         """The final field, (N, N, N) float64, read-only, indexed [i, j, k] (x, y, z)."""
     @property
     def report(self) -> Dict[str, Any]:
-        """report.json of the run, as a dict."""
+        """report.json of the run, as a dict: every key of the command line's report.json
+        except preview_seconds (the preview stage runs in save(), whose report.json has it)."""
     @property
     def history(self) -> Dict[str, np.ndarray]:
         """history.csv's columns: step, stage, time, area, d_area, d_phi, energy, mass,
         vcycles, residual, elapsed, dt (int64 / float64 / str arrays), one row per time step."""
-    def save(self, dir: Union[str, PathLike[str]], float32: bool = False,
-             preview: bool = True) -> Any:
-        """Writes the run folder as `cmcsurf run --out dir --no-report` does: history.csv,
+    def save(self, dir: Union[str, PathLike[str]], float32: bool = False, preview: bool = True,
+             report: bool = True) -> Path:
+        """Writes the run folder as `cmcsurf run --out dir` does: history.csv,
         curvature_histogram.csv, field.vti (float32: single precision), preview.png (unless
-        preview=False; report.json then gains preview_seconds) and report.json last. The
-        interactive report.html: `cmcsurf report dir`. Returns the pathlib.Path of dir."""
+        preview=False, as --no-preview), report.json last (with preview_seconds) and
+        report.html (unless report=False, as --no-report). Returns dir as a Path."""
 
 class Mesh:
-    """A triangle mesh in output units."""
+    """A watertight triangle mesh in output units (cell_size per unit cell); immutable."""
     @property
-    def vertices(self) -> npt.NDArray[np.float64]: ...
+    def vertices(self) -> npt.NDArray[np.float64]:
+        """(n, 3) float64, read-only: (x, y, z) along the field's axes i, j, k, times
+        cell_size."""
     @property
-    def faces(self) -> npt.NDArray[np.int64]: ...
+    def faces(self) -> npt.NDArray[np.int64]:
+        """(m, 3) int64, read-only: vertex indices, counter-clockwise seen from outside."""
     @property
-    def report(self) -> Dict[str, Any]: ...
-    def save(self, path: Union[str, PathLike[str]], format: str = "") -> Any:
+    def report(self) -> Dict[str, Any]:
+        """FILE.json of `cmcsurf mesh` as a dict: counts, area, volume, Euler characteristic,
+        checks (closed, manifold), topology (fragments)."""
+    def save(self, path: Union[str, PathLike[str]], format: str = "") -> Path:
         """Writes the mesh (stl, ply, obj, 3mf; from the extension unless format is given) and
-        path.json, as `cmcsurf mesh --out path` does; returns the pathlib.Path."""
+        path.json (with source), as `cmcsurf mesh --out path` does; returns path as a Path."""
+
+Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
 def version() -> str: ...
 def surfaces() -> List[Dict[str, Any]]: ...
 def default_options() -> Dict[str, Any]: ...
-def run(options: Dict[str, Any], threads: int,
-        progress: Optional[Callable[[Dict[str, Any]], Any]]) -> Result: ...
+def run(options: Dict[str, Any], threads: int, progress: Progress) -> Result: ...
 def relax(phi: Any, volume_fraction: Optional[float], algorithm: str, options: Dict[str, Any],
-          threads: int,
-          progress: Optional[Callable[[Dict[str, Any]], Any]]) -> Result: ...
+          threads: int, progress: Progress) -> Result: ...
 def initial_field(options: Dict[str, Any]) -> npt.NDArray[np.float64]: ...
-def measure(phi: Any, epsilon: float, surface: Optional[str], threads: int) -> Dict[str, Any]: ...
+def measure(phi: Any, options: Dict[str, Any], threads: int) -> Dict[str, Any]: ...
 def sweep(surfaces: str, fractions: str, continuation: bool, options: Dict[str, Any],
-          threads: int, progress: Optional[Callable[[Dict[str, Any]], Any]]
-          ) -> Tuple[List[Result], List[str]]: ...
-def mesh(source: Any, tile: str, cell_size: float, units: str, solid: str, other_phase: bool,
-         thickness: float, threads: int) -> Mesh: ...
+          threads: int, progress: Progress) -> Tuple[List[Result], List[str]]: ...
+def mesh(source: Any, options: Dict[str, Any], threads: int) -> Mesh: ...

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
+#include <type_traits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,8 +33,10 @@
 #include "mesh/scaffold.h"
 #include "multigrid/fas.h"
 #include "pipeline/cmc.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
+#include "pipeline/run_page.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
 
@@ -43,7 +47,6 @@ namespace cmcsurf::python {
 namespace {
 
 constexpr int kMaxGrid = 2048;  // as --grid
-constexpr int kMaxThreads = 4096;  // as --threads
 
 // ---- JSON <-> Python -------------------------------------------------------------------
 
@@ -114,16 +117,41 @@ Field array_to_field(py::handle obj, const char* name) {
 
 // ---- options ---------------------------------------------------------------------------
 
+// A keyword argument of the wrong type: TypeError "epsilon: got '0.05' of type str; accepted:
+// a real number", the same wording for every function of the module.
+[[noreturn]] void wrong_type(py::handle v, const std::string& key, const char* type) {
+  throw py::type_error(fmt::format("{}: got {} of type {}; accepted: {}", key,
+                                   std::string(py::repr(v)),
+                                   std::string(py::str(py::type::of(v).attr("__name__"))), type));
+}
+
 template <class T>
-T cast_option(py::handle v, const char* key, const char* type) {
+T cast_option(py::handle v, const std::string& key, const char* type) {
+  // No str -> number or number -> str conversions: "2" is not 2.
+  if constexpr (std::is_arithmetic_v<T>) {
+    if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v)) wrong_type(v, key, type);
+  }
   try {
     return py::cast<T>(v);
   } catch (const py::cast_error&) {
-    throw py::type_error(fmt::format("{}: got {} of type {}; accepted: {}", key,
-                                     std::string(py::repr(v)),
-                                     std::string(py::str(py::type::of(v).attr("__name__"))),
-                                     type));
+    wrong_type(v, key, type);
   }
+}
+
+bool bool_option(py::handle v, const std::string& key) {
+  if (!py::isinstance<py::bool_>(v) &&
+      std::string(py::str(py::type::of(v).attr("__name__"))) != "bool_")
+    throw py::type_error(
+        fmt::format("{}: got {}; accepted: True or False", key, std::string(py::repr(v))));
+  return py::cast<bool>(v);
+}
+
+// threads=T: an integer, checked as --threads is (pipeline/option_checks.h).
+int threads_option(py::handle v) {
+  const long long t = cast_option<long long>(v, "threads", "an integer");
+  if (const std::string why = check_threads(t); !why.empty())
+    throw py::value_error("--threads: " + why);
+  return int(t);
 }
 
 // The keyword arguments of run() (the command line's options with '_' for '-'): None means
@@ -132,16 +160,10 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
   for (auto [key_obj, v] : options) {
     const std::string key = py::cast<std::string>(key_obj);
     if (v.is_none()) continue;
-    auto d = [&](double& x) { x = cast_option<double>(v, key.c_str(), "a real number"); };
-    auto i = [&](int& x) { x = cast_option<int>(v, key.c_str(), "an integer"); };
-    auto s = [&](std::string& x) { x = cast_option<std::string>(v, key.c_str(), "a string"); };
-    auto b = [&](bool& x) {
-      if (!py::isinstance<py::bool_>(v) &&
-          std::string(py::str(py::type::of(v).attr("__name__"))) != "bool_")
-        throw py::type_error(fmt::format("{}: got {}; accepted: True or False", key,
-                                         std::string(py::repr(v))));
-      x = py::cast<bool>(v);
-    };
+    auto d = [&](double& x) { x = cast_option<double>(v, key, "a real number"); };
+    auto i = [&](int& x) { x = cast_option<int>(v, key, "an integer"); };
+    auto s = [&](std::string& x) { x = cast_option<std::string>(v, key, "a string"); };
+    auto b = [&](bool& x) { x = bool_option(v, key); };
     if (key == "surface") s(p.surface);
     else if (key == "volume_fraction") d(p.volume_fraction);
     else if (key == "grid") i(p.grid);
@@ -155,9 +177,18 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
     else if (key == "volume_tol") d(p.volume_tol);
     else if (key == "radius") d(p.radius);
     else if (key == "seed") {
-      const long long seed = cast_option<long long>(v, "seed", "an integer >= 0");
-      if (seed < 0) throw py::value_error(fmt::format("--seed: got {}; accepted: >= 0", seed));
-      p.seed = std::uint64_t(seed);
+      // The sign as --seed checks it (pipeline/option_checks.h); 2^63 <= S < 2^64 as unsigned.
+      if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) ||
+          !py::hasattr(v, "__index__"))
+        wrong_type(v, key, "an integer");
+      const py::int_ seed = py::module_::import("operator").attr("index")(v);
+      if (seed < py::int_(0)) {
+        const py::int_ lowest(std::numeric_limits<long long>::min());
+        throw py::value_error(
+            "--seed: " + check_seed(seed < lowest ? std::numeric_limits<long long>::min()
+                                                  : seed.cast<long long>()));
+      }
+      p.seed = cast_option<unsigned long long>(seed, key, "an integer");
     }
     else if (key == "mg_tol") d(p.solver.tol);
     else if (key == "fast") b(c.fast);
@@ -189,12 +220,9 @@ RunParams run_params(const py::dict& options, bool check_surface) {
 // that a later call with threads=0 gets the default again. The solve runs on this thread.
 class ThreadScope {
  public:
-  explicit ThreadScope(int threads) : before_(omp_get_max_threads()) {
-    if (threads < 0 || threads > kMaxThreads)
-      throw py::value_error(fmt::format(
-          "--threads: got {}; accepted: 0 <= T <= {} (0: OMP_NUM_THREADS or all cores)",
-          threads, kMaxThreads));
-    if (threads > 0) omp_set_num_threads(threads);
+  explicit ThreadScope(py::handle threads) : before_(omp_get_max_threads()) {
+    const int t = threads_option(threads);
+    if (t > 0) omp_set_num_threads(t);
   }
   ~ThreadScope() { omp_set_num_threads(before_); }
   int count() const { return omp_get_max_threads(); }
@@ -209,7 +237,8 @@ class ThreadScope {
 // Interaction::pending while the run unwinds.
 struct PythonPending : std::exception {};
 
-py::dict step_dict(const StepRecord& r) {
+// history.csv's columns of one step, and in a sweep the member it belongs to.
+py::dict step_dict(const StepRecord& r, const std::string& member) {
   py::dict d;
   d["step"] = r.step;
   d["stage"] = r.stage;
@@ -223,6 +252,7 @@ py::dict step_dict(const StepRecord& r) {
   d["vcycles"] = r.vcycles;
   d["residual"] = r.residual;
   d["elapsed"] = r.elapsed;
+  if (!member.empty()) d["member"] = member;
   return d;
 }
 
@@ -237,13 +267,16 @@ class Interaction {
           std::string(py::repr(progress_))));
   }
 
+  // A sweep's member from now on (its name goes into the progress dicts).
+  void set_member(const std::string& name) { member_ = name; }
+
   RunContext context() {
     RunContext c;
     c.progress = [this](const StepRecord& r) {
       py::gil_scoped_acquire gil;
       if (!progress_.is_none()) {
         try {
-          progress_(step_dict(r));
+          progress_(step_dict(r, member_));
         } catch (py::error_already_set& e) {
           pending_ = e;
           throw PythonPending{};
@@ -290,10 +323,24 @@ class Interaction {
   }
 
   py::object progress_;
+  std::string member_;
   std::optional<py::error_already_set> pending_;
 };
 
+py::object to_path(const std::filesystem::path& p) {
+  return py::module_::import("pathlib").attr("Path")(p.string());
+}
+
 // ---- results ---------------------------------------------------------------------------
+
+// report.json keys of a run the command line adds (cmd_run.cpp): the process layout, and the
+// checkpoints, of which a Python run writes none (Ctrl-C raises instead).
+nlohmann::json single_run_extra() {
+  nlohmann::json extra = decomposition_json(*Decomposition::world());
+  extra["checkpoints_written"] = 0;
+  extra["checkpoint_seconds"] = 0.0;
+  return extra;
+}
 
 // A run's configuration, result and quality stage, immutable once made; report() is the
 // report.json of the same run from the command line.
@@ -302,7 +349,7 @@ struct Result {
   RunResult result;
   CmcQuality quality;
   int threads = 1;
-  nlohmann::json extra;  // keys the command line adds (process layout, sweep member)
+  nlohmann::json extra;  // keys the command line adds (process layout, checkpoints, member)
   nlohmann::json report;
   py::object phi_cache, report_cache, history_cache;
 
@@ -362,9 +409,14 @@ struct Result {
     history_cache = d;
     return d;
   }
-  // The run folder as `cmcsurf run --no-report` writes it (write_run_folder), with the
-  // preview stage and preview.png unless preview is false (then as --no-preview too).
-  py::object save(const std::filesystem::path& dir, bool float32, bool preview) {
+  // The run folder as `cmcsurf run --out dir` writes it: the preview stage and preview.png
+  // (--no-preview: preview=False), write_run_folder, then report.html (--no-report:
+  // report=False) from the folder's files, as the CLI does.
+  py::object save(const std::filesystem::path& dir, py::handle float32_arg,
+                  py::handle preview_arg, py::handle report_arg) {
+    const bool float32 = bool_option(float32_arg, "float32");
+    const bool preview = bool_option(preview_arg, "preview");
+    const bool page = bool_option(report_arg, "report");
     {
       py::gil_scoped_release release;
       std::optional<RunPreview> picture;
@@ -376,8 +428,9 @@ struct Result {
       write_run_folder(dir, params, result, result.phi, quality, threads, float32, x, [&] {
         if (picture) write_png(dir / "preview.png", picture->image);
       });
+      if (page) write_run_page(dir);
     }
-    return py::module_::import("pathlib").attr("Path")(dir.string());
+    return to_path(dir);
   }
 };
 
@@ -385,6 +438,7 @@ struct Mesh {
   TriMesh mesh;
   nlohmann::json report;
   ScaffoldParams params;
+  std::string source;  // FILE.json's "source", as `cmcsurf mesh --from` records its field's
   py::object vertices_cache, faces_cache, report_cache;
 
   py::object vertices() {
@@ -412,37 +466,41 @@ struct Mesh {
     return report_cache;
   }
   // The mesh file and FILE.json, as `cmcsurf mesh --out path` writes them.
-  py::object save(const std::filesystem::path& path, const std::string& format) {
+  py::object save(const std::filesystem::path& path, py::handle format_arg) {
     MeshPlan plan;
     plan.params = params;
     plan.out = path;
-    plan.format = mesh_output_format(format, path);
+    plan.format = mesh_output_format(cast_option<std::string>(format_arg, "format", "a string"),
+                                     path);
     {
       py::gil_scoped_release release;
-      write_mesh_with_report(mesh, report, plan, nlohmann::json::object());
+      write_mesh_with_report(mesh, report, plan, {{"source", source}});
     }
-    return py::module_::import("pathlib").attr("Path")(path.string());
+    return to_path(path);
   }
 };
 
 // ---- the functions ---------------------------------------------------------------------
 
-std::shared_ptr<Result> run(const py::dict& options, int threads, py::object progress) {
+std::shared_ptr<Result> run(const py::dict& options, py::handle threads, py::object progress) {
   const RunParams p = run_params(options, true);
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   auto out = ia.solve([&](const RunContext& c) {
-    auto r = std::make_shared<Result>(p, run_cmc(p, c), scope.count(),
-                                      decomposition_json(*Decomposition::world()));
+    auto r = std::make_shared<Result>(p, run_cmc(p, c), scope.count(), single_run_extra());
     r->finish();
     return r;
   });
   return out;
 }
 
-std::shared_ptr<Result> relax(py::handle phi, std::optional<double> volume_fraction,
-                              const std::string& algorithm, const py::dict& options,
-                              int threads, py::object progress) {
+std::shared_ptr<Result> relax(py::handle phi, py::handle volume_fraction_arg,
+                              py::handle algorithm_arg, const py::dict& options,
+                              py::handle threads, py::object progress) {
+  std::optional<double> volume_fraction;
+  if (!volume_fraction_arg.is_none())
+    volume_fraction = cast_option<double>(volume_fraction_arg, "volume_fraction", "a real number");
+  const std::string algorithm = cast_option<std::string>(algorithm_arg, "algorithm", "a string");
   const Field start = array_to_field(phi, "phi");
   py::dict o = options;
   if (!o.contains("surface") || o["surface"].is_none()) o["surface"] = "field";
@@ -452,7 +510,7 @@ std::shared_ptr<Result> relax(py::handle phi, std::optional<double> volume_fract
     throw py::value_error("--coarse-levels: relax() starts from the given field on its own "
                           "grid; accepted: 0");
   p.coarse_levels = 0;
-  nlohmann::json extra = decomposition_json(*Decomposition::world());
+  nlohmann::json extra = single_run_extra();
   const bool cmc = algorithm == "cmc";
   if (!cmc && algorithm != "direct")
     throw py::value_error(
@@ -494,38 +552,33 @@ py::array_t<double> initial_field(const py::dict& options) {
   return field_to_array(make_initial_field(init, p.grid, 2));
 }
 
-py::object measure(py::handle phi, double epsilon, std::optional<std::string> surface,
-                   int threads) {
+// options: epsilon and surface (None: not given), checked as run()'s are.
+py::object measure(py::handle phi, const py::dict& options, py::handle threads) {
   Field f = array_to_field(phi, "phi");
+  const bool named = options.contains("surface") && !options["surface"].is_none();
   RunParams p;
+  RunChoices c;
+  apply_options(p, c, options);
   p.grid = f.n();
-  p.epsilon = epsilon;
-  p.surface = surface.value_or("field");
-  if (!(epsilon > 0.0 && epsilon < 1.0))
-    throw py::value_error(fmt::format("--epsilon: got {}; accepted: 0 < E < 1", epsilon));
-  if (surface) {
-    try {
-      validate_surface(*surface);
-    } catch (const std::invalid_argument& e) {
-      throw py::value_error(fmt::format("--surface: {}", e.what()));
-    }
-  }
+  if (!named) p.surface = "field";
+  finish_run_params(p, c, named);  // --epsilon, --surface: OptionError -> ValueError
   ThreadScope scope(threads);
   nlohmann::json j;
   {
     py::gil_scoped_release release;
-    const Measures m = measure_field(f, epsilon);
+    const Measures m = measure_field(f, p.epsilon);
     const CmcQuality q = measure_cmc_quality(f, p);
     j = measures_json(m);
     j.update(quality_json(q, m.area));
     j["grid"] = p.grid;
-    j["epsilon"] = epsilon;
+    j["epsilon"] = p.epsilon;
   }
   return to_python(j);
 }
 
-py::tuple sweep(const std::string& surfaces, const std::string& fractions, bool continuation,
-                const py::dict& options, int threads, py::object progress) {
+py::tuple sweep(const std::string& surfaces, const std::string& fractions,
+                py::handle continuation, const py::dict& options, py::handle threads,
+                py::object progress) {
   SweepParams sp;
   sp.run = run_params(options, false);
   try {
@@ -538,14 +591,14 @@ py::tuple sweep(const std::string& surfaces, const std::string& fractions, bool 
   } catch (const std::invalid_argument& e) {
     throw py::value_error(fmt::format("--volume-fractions: {}", e.what()));
   }
-  sp.continuation = continuation;
+  sp.continuation = bool_option(continuation, "continuation");
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   std::vector<std::shared_ptr<Result>> results;
   std::vector<nlohmann::json> reports;
   ia.solve([&](const RunContext& c) {
     run_sweep(
-        sp, {},
+        sp, [&](const SweepMember& m) { ia.set_member(m.name); },
         [&](const SweepMember& m, RunResult& r) {
           auto res = std::make_shared<Result>(
               m.params, std::move(r), scope.count(),
@@ -571,25 +624,40 @@ py::tuple sweep(const std::string& surfaces, const std::string& fractions, bool 
   return py::make_tuple(results, columns);
 }
 
-std::shared_ptr<Mesh> mesh(py::handle source, const std::string& tile, double cell_size,
-                           const std::string& units, const std::string& solid, bool other_phase,
-                           double thickness, int threads) {
+// The keyword arguments of mesh() (`cmcsurf mesh`'s options with '_' for '-'; None: not
+// given), type-checked as run()'s; their ranges are scaffold_params's (io/mesh_output.h).
+MeshOutputOptions mesh_options(const py::dict& options) {
+  MeshOutputOptions o;
+  for (auto [key_obj, v] : options) {
+    const std::string key = py::cast<std::string>(key_obj);
+    if (v.is_none()) continue;
+    if (key == "tile") o.tile = cast_option<std::string>(v, key, "a string");
+    else if (key == "cell_size") o.cell_size = cast_option<double>(v, key, "a real number");
+    else if (key == "units") o.units = cast_option<std::string>(v, key, "a string");
+    else if (key == "solid") o.solid = cast_option<std::string>(v, key, "a string");
+    else if (key == "thickness") o.thickness = cast_option<double>(v, key, "a real number");
+    else if (key == "other_phase") o.other_phase = bool_option(v, key);
+    else if (key == "keep_fragments") o.keep_fragments = bool_option(v, key);
+    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+  }
+  return o;
+}
+
+std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handle threads) {
   std::optional<Field> owned;
   const Field* phi = nullptr;
+  auto out = std::make_shared<Mesh>();
   if (py::isinstance<Result>(source)) {
-    phi = &py::cast<Result&>(source).result.phi;
+    const Result& r = py::cast<Result&>(source);
+    phi = &r.result.phi;
+    out->source = fmt::format("cmcsurf.Result: {}, volume fraction {:.6g}, grid {}",
+                              r.params.surface, r.result.final.volume_fraction, r.params.grid);
   } else {
     owned = array_to_field(source, "phi");
     phi = &*owned;
+    out->source = fmt::format("array of shape ({n}, {n}, {n})", fmt::arg("n", phi->n()));
   }
-  MeshOutputOptions o;
-  o.tile = tile;
-  o.cell_size = cell_size;
-  o.units = units;
-  o.solid = solid;
-  o.other_phase = other_phase;
-  o.thickness = thickness;
-  auto out = std::make_shared<Mesh>();
+  const MeshOutputOptions o = mesh_options(options);
   out->params = scaffold_params(o, phi->n());
   ThreadScope scope(threads);
   {
@@ -614,6 +682,65 @@ py::list surfaces() {
   return out;
 }
 
+// ---- docstrings (help(cmcsurf.Result), help(cmcsurf.Mesh)) --------------------------------
+
+constexpr const char* kResultDoc = R"(A run's result: the field, report and history of one solve.
+
+Made by cmcsurf.run, relax and sweep; immutable. Its numbers are those of the command line's
+run folder at equal parameters and thread count (report.json, history.csv, field.vti).)";
+
+constexpr const char* kResultPhiDoc = R"(The final field phi: float64 (N, N, N), read-only.
+
+Indexed [i, j, k] = the cell centred at ((i + 1/2) / N, (j + 1/2) / N, (k + 1/2) / N), i.e. the
+(x, y, z) axes of numpy.meshgrid(..., indexing="ij"); phase 1 is phi > 1/2.)";
+
+constexpr const char* kResultReportDoc = R"(report.json of the run, as a dict.
+
+Every key of the command line's report.json (same values, bit for bit at equal thread
+count), except preview_seconds: the preview stage runs in save(), whose report.json has it.
+A sweep member's report adds member, started_from and volume_fraction_target, as the
+member's report.json in a `cmcsurf sweep` folder.)";
+
+constexpr const char* kResultHistoryDoc =
+    R"(history.csv as a dict of NumPy columns, one row per time step.
+
+step, vcycles (int64); stage (str); time, dt, area, d_area, d_phi, energy, mass, residual,
+elapsed (float64).)";
+
+constexpr const char* kResultSaveDoc =
+    R"(save(dir, float32=False, preview=True, report=True) -> pathlib.Path
+
+Writes the run folder exactly as `cmcsurf run --out dir` does: history.csv,
+curvature_histogram.csv, field.vti (float32=True: single precision, as --float32),
+preview.png, report.json (last; with preview_seconds) and report.html. preview=False is
+--no-preview (no preview.png), report=False is --no-report (no report.html; `cmcsurf report
+dir` writes it later). An earlier run's outputs in dir are removed first. Returns dir as a
+pathlib.Path.)";
+
+constexpr const char* kMeshDoc = R"(A watertight triangle mesh of a field, made by cmcsurf.mesh.
+
+Coordinates are in output units (cell_size per unit cell); immutable.)";
+
+constexpr const char* kMeshVerticesDoc = R"(Vertex coordinates: float64 (n, 3), read-only.
+
+(x, y, z) along the field's axes i, j, k, times cell_size, over the tiled box.)";
+
+constexpr const char* kMeshFacesDoc = R"(Triangles: int64 (m, 3), read-only.
+
+Indices into vertices, counter-clockwise seen from outside (the solid's outward normal).)";
+
+constexpr const char* kMeshReportDoc = R"(The mesh's report, as a dict: FILE.json of `cmcsurf mesh`.
+
+Counts (triangles, vertices), area, volume (solids), Euler characteristic, the checks
+(closed, manifold, ...) and topology; save() adds file, format, file_bytes, write_seconds,
+version and source to the FILE.json it writes.)";
+
+constexpr const char* kMeshSaveDoc = R"(save(path, format="") -> pathlib.Path
+
+Writes the mesh (stl, ply, obj or 3mf; from path's extension unless format is given) and
+path.json, as `cmcsurf mesh --out path` does; path.json's source names the Result or array the
+mesh came from. Returns path as a pathlib.Path.)";
+
 }  // namespace
 
 PYBIND11_MODULE(_cmcsurf, m) {
@@ -631,28 +758,27 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("default_options", [] { return to_python(params_json(RunParams{})); });
   m.def("run", &run, py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("relax", &relax, py::arg("phi"), py::arg("volume_fraction"), py::arg("algorithm"),
-        py::arg("options"),
-        py::arg("threads"), py::arg("progress"));
+        py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("initial_field", &initial_field, py::arg("options"));
-  m.def("measure", &measure, py::arg("phi"), py::arg("epsilon"), py::arg("surface"),
-        py::arg("threads"));
+  m.def("measure", &measure, py::arg("phi"), py::arg("options"), py::arg("threads"));
   m.def("sweep", &sweep, py::arg("surfaces"), py::arg("fractions"), py::arg("continuation"),
         py::arg("options"), py::arg("threads"), py::arg("progress"));
-  m.def("mesh", &mesh, py::arg("source"), py::arg("tile"), py::arg("cell_size"),
-        py::arg("units"), py::arg("solid"), py::arg("other_phase"), py::arg("thickness"),
-        py::arg("threads"));
+  m.def("mesh", &mesh, py::arg("source"), py::arg("options"), py::arg("threads"));
 
-  py::class_<Result, std::shared_ptr<Result>>(m, "Result")
-      .def_property_readonly("phi", &Result::phi)
-      .def_property_readonly("report", &Result::report_dict)
-      .def_property_readonly("history", &Result::history)
+  // The methods' docstrings begin with their own signature, in the package's types.
+  py::options options;
+  options.disable_function_signatures();
+  py::class_<Result, std::shared_ptr<Result>>(m, "Result", kResultDoc)
+      .def_property_readonly("phi", &Result::phi, kResultPhiDoc)
+      .def_property_readonly("report", &Result::report_dict, kResultReportDoc)
+      .def_property_readonly("history", &Result::history, kResultHistoryDoc)
       .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false,
-           py::arg("preview") = true);
-  py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh")
-      .def_property_readonly("vertices", &Mesh::vertices)
-      .def_property_readonly("faces", &Mesh::faces)
-      .def_property_readonly("report", &Mesh::report_dict)
-      .def("save", &Mesh::save, py::arg("path"), py::arg("format") = "");
+           py::arg("preview") = true, py::arg("report") = true, kResultSaveDoc);
+  py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh", kMeshDoc)
+      .def_property_readonly("vertices", &Mesh::vertices, kMeshVerticesDoc)
+      .def_property_readonly("faces", &Mesh::faces, kMeshFacesDoc)
+      .def_property_readonly("report", &Mesh::report_dict, kMeshReportDoc)
+      .def("save", &Mesh::save, py::arg("path"), py::arg("format") = "", kMeshSaveDoc);
 }
 
 }  // namespace cmcsurf::python

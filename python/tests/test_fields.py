@@ -153,9 +153,7 @@ def test_bad_options_raise_the_cli_message(args, option):
     ({"grid": "32"}, TypeError, "grid"),
     ({"epsilon": "small"}, TypeError, "epsilon"),
     ({"fast": 1}, TypeError, "fast"),
-    ({"threads": -1}, ValueError, "--threads"),
     ({"bogus": 1}, TypeError, "bogus"),
-    ({"seed": -1}, ValueError, "--seed"),
     ({"progress": 5}, TypeError, "progress"),
 ])
 def test_bad_types_raise(kwargs, error, words):
@@ -166,3 +164,69 @@ def test_bad_types_raise(kwargs, error, words):
 def test_relax_refuses_coarse_levels(x_field):
     with pytest.raises(ValueError, match="--coarse-levels"):
         cmcsurf.relax(x_field, coarse_levels=1)
+
+
+@pytest.mark.parametrize("args,kwargs", [
+    (["--threads", "-1"], {"threads": -1}),
+    (["--threads", "5000"], {"threads": 5000}),
+    (["--surface", "noise", "--seed", "-1"], {"surface": "noise", "seed": -1}),
+    (["--epsilon", "0"], {"epsilon": 0.0}),
+    (["--epsilon", "1.5"], {"epsilon": 1.5}),
+])
+def test_threads_seed_epsilon_messages_are_the_cli_messages(args, kwargs):
+    cli = run_cli("run", *args, "--out", "/nonexistent/never-written", check=False)
+    assert cli.returncode == 2
+    message = cli.stderr.strip().splitlines()[0].removeprefix("error: ")
+    with pytest.raises(ValueError) as e:
+        cmcsurf.run(**kwargs)
+    assert str(e.value) == message
+    # The same checks behind measure(), relax(), sweep() and mesh() (threads, epsilon).
+    phi = cmcsurf.initial_field("G", N)
+    calls = []
+    if "threads" in kwargs:
+        calls = [lambda: cmcsurf.measure(phi, threads=kwargs["threads"]),
+                 lambda: cmcsurf.relax(phi, threads=kwargs["threads"]),
+                 lambda: cmcsurf.sweep(("G",), (0.5,), grid=N, threads=kwargs["threads"]),
+                 lambda: cmcsurf.mesh(phi, threads=kwargs["threads"])]
+    if "epsilon" in kwargs:
+        calls = [lambda: cmcsurf.measure(phi, epsilon=kwargs["epsilon"]),
+                 lambda: cmcsurf.relax(phi, epsilon=kwargs["epsilon"])]
+    for call in calls:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert str(e.value) == message
+
+
+def test_wrong_types_raise_type_error_with_the_wording_of_run():
+    phi = cmcsurf.initial_field("G", N)
+    with pytest.raises(TypeError) as e:
+        cmcsurf.run(epsilon="0.05")
+    wording = str(e.value)
+    assert wording == "epsilon: got '0.05' of type str; accepted: a real number"
+    for call, text in [
+        (lambda: cmcsurf.measure(phi, epsilon="0.05"), wording),
+        (lambda: cmcsurf.relax(phi, epsilon="0.05"), wording),
+        (lambda: cmcsurf.relax(phi, volume_fraction="x"),
+         "volume_fraction: got 'x' of type str; accepted: a real number"),
+        (lambda: cmcsurf.mesh(phi, cell_size="2"),
+         "cell_size: got '2' of type str; accepted: a real number"),
+        (lambda: cmcsurf.run(threads=1.5), "threads: got 1.5 of type float; accepted: an integer"),
+        (lambda: cmcsurf.measure(phi, threads=1.5),
+         "threads: got 1.5 of type float; accepted: an integer"),
+        (lambda: cmcsurf.mesh(phi, threads="2"),
+         "threads: got '2' of type str; accepted: an integer"),
+        (lambda: cmcsurf.run(seed=1.0), "seed: got 1.0 of type float; accepted: an integer"),
+        (lambda: cmcsurf.run(volume_fraction="0.3"),
+         "volume_fraction: got '0.3' of type str; accepted: a real number"),
+        (lambda: cmcsurf.sweep(("G",), (0.5,), grid=N, continuation=1),
+         "continuation: got 1; accepted: True or False"),
+    ]:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == text
+
+
+def test_numpy_scalars_are_accepted_as_numbers():
+    r = cmcsurf.run("sphere", grid=np.int64(N), epsilon=np.float32(0.05), seed=np.uint8(3),
+                    max_steps=2, threads=np.int32(1))
+    assert r.report["grid"] == N and r.report["parameters"]["seed"] == 3

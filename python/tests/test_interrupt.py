@@ -31,6 +31,51 @@ def test_keyboard_interrupt_stops_a_64_run_within_a_second():
     assert r.report["steps"] == 3
 
 
+def interrupt_from_a_thread(fired):
+    """Ctrl-C as a second thread gives it: SIGINT's handler then runs in the main thread."""
+    def fire():
+        fired.append(time.perf_counter())
+        _thread.interrupt_main()
+    threading.Thread(target=fire).start()
+
+
+def test_keyboard_interrupt_stops_a_sweep_in_its_second_member():
+    fired, members = [], []
+
+    def progress(d):
+        members.append(d["member"])
+        if d["member"] == "G_0.50" and d["step"] == 3 and not fired:
+            interrupt_from_a_thread(fired)
+
+    with pytest.raises(KeyboardInterrupt):
+        cmcsurf.sweep(("G",), (0.4, 0.5), grid=32, fast=True, threads=1, progress=progress)
+    stopped = time.perf_counter()
+    assert fired and stopped - fired[0] < 1.0
+    # It stopped in the second member, before that member's end: far fewer steps than the first.
+    assert members[0] == "G_0.40" and members[-1] == "G_0.50"
+    assert members.count("G_0.50") < members.count("G_0.40") / 2
+    r = cmcsurf.run("sphere", grid=16, epsilon=0.05, max_steps=3, threads=1)
+    assert r.report["steps"] == 3
+
+
+def test_keyboard_interrupt_stops_relax():
+    fired, steps = [], []
+
+    def progress(d):
+        steps.append(d["step"])
+        if len(steps) == 5:
+            interrupt_from_a_thread(fired)
+
+    phi = cmcsurf.initial_field("G", 32)
+    with pytest.raises(KeyboardInterrupt):
+        cmcsurf.relax(phi, 0.4, threads=1, progress=progress)
+    stopped = time.perf_counter()
+    assert fired and stopped - fired[0] < 1.0
+    # The whole relaxation takes well over a hundred steps; it stopped within a few of the fifth.
+    assert 5 <= len(steps) <= 10
+    assert cmcsurf.relax(phi, 0.4, epsilon=0.05, max_steps=2, threads=1).report["steps"] >= 1
+
+
 def test_progress_gets_a_dict_per_step():
     records = []
     r = cmcsurf.run("G", 0.3, 16, epsilon=0.05, threads=1, progress=records.append)

@@ -52,6 +52,10 @@ def test_save_writes_the_file_and_its_report(gyroid_result, tmp_path, name):
     ({"thickness": 0.1}, ValueError, "--thickness"),
     ({"units": "ft"}, ValueError, "--units"),
     ({"cell_size": -1}, ValueError, "--cell-size"),
+    ({"cell_size": "2"}, TypeError, "cell_size: got '2' of type str; accepted: a real number"),
+    ({"thickness": "0.1", "solid": "sheet"}, TypeError, "thickness"),
+    ({"units": 5}, TypeError, "units"),
+    ({"other_phase": 1}, TypeError, "other_phase"),
 ])
 def test_bad_mesh_options(gyroid_result, kwargs, error, words):
     with pytest.raises(error, match=words):
@@ -62,3 +66,41 @@ def test_save_refuses_unknown_format(gyroid_result, tmp_path):
     m = cmcsurf.mesh(gyroid_result)
     with pytest.raises(ValueError, match="--format"):
         m.save(tmp_path / "part.xyz")
+
+
+def test_keep_fragments_keeps_the_pieces_the_box_cuts_off():
+    # A slab through the box (one piece with its periodic images) and a ball apart from it:
+    # the ball is the loose fragment that `cmcsurf mesh` removes unless --keep-fragments.
+    n = 16
+    x = (np.arange(n) + 0.5) / n
+    X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
+    phi = np.zeros((n, n, n))
+    phi[np.abs(Y - 0.25) < 0.12] = 1.0
+    phi[(X - 0.5) ** 2 + (Y - 0.75) ** 2 + (Z - 0.5) ** 2 < 0.15 ** 2] = 1.0
+    removed = cmcsurf.mesh(phi, solid="network")
+    kept = cmcsurf.mesh(phi, solid="network", keep_fragments=True)
+    assert removed.report["topology"]["fragments"] == kept.report["topology"]["fragments"] == 1
+    assert removed.report["topology"]["fragments_removed"]
+    assert not kept.report["topology"]["fragments_removed"]
+    assert len(kept.faces) > len(removed.faces)
+    # The kept ball is the difference in volume the report gives for the fragment.
+    assert kept.report["volume"] - removed.report["volume"] == pytest.approx(
+        removed.report["topology"]["fragment_volume"], rel=1e-9)
+    with pytest.raises(TypeError, match="keep_fragments"):
+        cmcsurf.mesh(phi, solid="network", keep_fragments="yes")
+
+
+def test_save_writes_the_file_json_of_cmcsurf_mesh(gyroid_result, gyroid_cli, tmp_path):
+    from conftest import comparable, run_cli
+    options = ["--tile", "2", "--solid", "network", "--cell-size", "2.5", "--units", "mm"]
+    run_cli("mesh", "--from", str(gyroid_cli), *options, "--quiet",
+            "--out", str(tmp_path / "cli.stl"))
+    cli = json.loads((tmp_path / "cli.stl.json").read_text())
+    cmcsurf.mesh(gyroid_result, tile=2, solid="network", cell_size=2.5, units="mm").save(
+        tmp_path / "py.stl")
+    ours = json.loads((tmp_path / "py.stl.json").read_text())
+    # The same keys (source included) and numbers: field.vti holds the run's phi exactly.
+    assert comparable({k: v for k, v in ours.items() if k not in ("file", "source")}) == \
+        comparable({k: v for k, v in cli.items() if k not in ("file", "source")})
+    assert cli["source"] == str(gyroid_cli) and ours["source"].startswith("cmcsurf.Result: G")
+    assert (tmp_path / "py.stl").read_bytes() == (tmp_path / "cli.stl").read_bytes()
