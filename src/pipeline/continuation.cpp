@@ -1,0 +1,94 @@
+#include "pipeline/continuation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "measure/measures.h"
+
+namespace cmcsurf {
+
+namespace {
+
+// Visits every fine cell with the eight coarse values around its centre and their trilinear
+// weights. A fine cell's centre lies a quarter of a coarse cell from its parent's centre, so
+// per axis the weights are 3/4 (parent) and 1/4 (the neighbour on the fine cell's side).
+// Blocks: the fine block starts at twice the coarse block's offset (even), so i / 2 and i % 2
+// hold for block indices too.
+template <class Combine>
+void prolongate_cells(const Field& coarse, Field& fine, Combine combine) {
+  const int nfx = fine.nx(), nfy = fine.ny(), nfz = fine.nz();
+#pragma omp parallel for schedule(static) if (nfx >= kParallelMinN)
+  for (int k = 0; k < nfz; ++k)
+    for (int j = 0; j < nfy; ++j)
+      for (int i = 0; i < nfx; ++i) {
+        const int ci = i / 2, cj = j / 2, ck = k / 2;
+        const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
+        double values[8], weights[8];
+        for (int c = 0; c < 8; ++c) {
+          const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
+          weights[c] = (a ? 0.25 : 0.75) * (b ? 0.25 : 0.75) * (d ? 0.25 : 0.75);
+          values[c] = coarse(ci + a * di, cj + b * dj, ck + d * dk);
+        }
+        fine(i, j, k) = combine(values, weights);
+      }
+}
+
+double linear(const double* values, const double* weights) {
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) v += weights[c] * values[c];
+  return v;
+}
+
+}  // namespace
+
+void prolongate_trilinear(const Field& coarse, Field& fine) {
+  prolongate_cells(coarse, fine, linear);
+  fine.exchange_halo();
+}
+
+void prolongate_profile(const Field& coarse, Field& fine) {
+  prolongate_cells(coarse, fine, [](const double* values, const double* weights) {
+    double psi = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      const double y = 2.0 * values[c] - 1.0;
+      if (!(std::abs(y) <= kProfileBand)) return linear(values, weights);
+      psi += weights[c] * std::atanh(y);
+    }
+    return 0.5 * (1.0 + std::tanh(psi));
+  });
+  // Restore the coarse mean by moving the interface, not the bulk: the correction is weighted
+  // by phi (1 - phi), which vanishes in both phases.
+  const int nx = fine.nx(), ny = fine.ny(), nz = fine.nz();
+  auto layer = [](double phi) { return std::max(0.0, phi * (1.0 - phi)); };
+  double weight = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : weight) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) weight += layer(fine(i, j, k));
+  weight = fine.sum_over_ranks(weight) / fine.global_cells();
+  const double missing = mass(coarse) - mass(fine);
+  if (weight > 0.0) {
+    const double c = missing / weight;
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) fine(i, j, k) += c * layer(fine(i, j, k));
+  } else {
+    add_constant(fine, missing);
+  }
+  fine.exchange_halo();
+}
+
+bool series_settled(std::span<const double> values, double tol) {
+  const std::size_t n = values.size();
+  if (n < 4) return false;
+  const double d3 = std::abs(values[n - 1] - values[n - 2]);
+  const double d2 = std::abs(values[n - 2] - values[n - 3]);
+  const double d1 = std::abs(values[n - 3] - values[n - 4]);
+  if (d3 == 0.0) return true;
+  if (!(d3 < d2 && d2 < d1)) return false;
+  const double r = std::max(d3 / d2, d2 / d1);
+  return d3 * r / (1.0 - r) <= tol;
+}
+
+}  // namespace cmcsurf
