@@ -32,6 +32,13 @@ int report(const ReportCommand& cmd) {
         "DIR: '{}' has neither report.json (a run folder) nor sweep.json (a sweep folder); "
         "a run or sweep writes these last, so the run may have stopped before it finished",
         cmd.dir));
+  // A sweep's gallery.png (missing after --no-preview, or an interrupted sweep) from its
+  // members' folders, since the page shows it.
+  if (sweep && !fs::exists(dir / "gallery.png")) {
+    const double gallery = write_gallery_from_folder(dir);
+    if (!cmd.quiet)
+      std::cerr << fmt::format("wrote {} in {:.2f} s\n", (dir / "gallery.png").string(), gallery);
+  }
   const double seconds = sweep ? write_sweep_page(dir) : write_run_page(dir);
   if (!cmd.quiet)
     std::cerr << fmt::format("wrote {} in {:.2f} s\n", (dir / "report.html").string(), seconds);

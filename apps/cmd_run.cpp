@@ -59,18 +59,46 @@ std::string resume_command(const std::filesystem::path& dir, const Decomposition
   return world.distributed() ? fmt::format("mpirun -np {} {}", world.ranks(), cmd) : cmd;
 }
 
+void check_mesh_format(const std::string& format) {
+  if (format.empty()) return;
+  try {
+    parse_mesh_format(format);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--mesh: {}", e.what()));
+  }
+}
+
 void validate(RunCommand& cmd) {
   finish_run_options(cmd.params, cmd.strings, true);
   const std::filesystem::path dir(cmd.out);
   if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
     throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd.out));
-  if (!cmd.mesh_format.empty()) {
-    try {
-      parse_mesh_format(cmd.mesh_format);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(fmt::format("--mesh: {}", e.what()));
-    }
-  }
+  check_mesh_format(cmd.mesh_format);
+}
+
+// What the run writes besides the fields, kept in its checkpoints: `run --resume DIR` alone
+// writes the folder the uninterrupted run would have written.
+nlohmann::json output_options(const RunCommand& cmd) {
+  return {{"float32", cmd.float32},
+          {"mesh", cmd.mesh_format},
+          {"no_preview", cmd.pages.no_preview},
+          {"no_report", cmd.pages.no_report},
+          {"checkpoint_every", cmd.checkpoints.every}};
+}
+
+// --resume: the output options the run started with, unless given again.
+void restore_output_options(RunCommand& cmd, const CLI::App& app, const nlohmann::json& saved,
+                            const std::filesystem::path& file) {
+  const OutputRestorer r(app, saved, file);
+  r.restore("--float32", "float32", cmd.float32);
+  r.restore("--mesh", "mesh", cmd.mesh_format);
+  r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
+  r.restore("--no-report", "no_report", cmd.pages.no_report);
+  r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
+  check_mesh_format(cmd.mesh_format);
+  if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
+    throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
+                                 file.string(), cmd.checkpoints.every));
 }
 
 void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
@@ -133,9 +161,10 @@ int run(RunCommand& cmd, const CLI::App& app) {
           std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
                                                          "--checkpoint-every 0 and killed"
                                                        : "not a run folder"));
-    nlohmann::json saved;
-    resume = load_checkpoint(dir, &saved, world);
-    p = resumed_params(app, p, saved, dir / kCheckpointFileName);
+    LoadedCheckpoint loaded = load_checkpoint(dir, RunEntry::kCmc, world);
+    p = resumed_params(app, p, loaded.params, dir / kCheckpointFileName);
+    restore_output_options(cmd, app, loaded.outputs, dir / kCheckpointFileName);
+    resume = std::move(loaded.checkpoint);
   }
   if (world->distributed()) check_decomposable(p, *world);
   // Everything is checked: from here on the folder may change.
@@ -143,13 +172,16 @@ int run(RunCommand& cmd, const CLI::App& app) {
     clear_run_outputs(dir);  // an earlier run's report must not sit beside this one's files
     std::filesystem::remove(dir / kCheckpointFileName);
   }
-  if (world->rank() == 0) ensure_directory(dir);
+  if (world->rank() == 0) {
+    ensure_directory(dir);
+    remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
+  }
   Progress progress(cmd.quiet);
   RunContext context([&](const StepRecord& s) { progress.step(s); });
   context.resume = resume;
   if (world->distributed()) context.decomposition = world;
   SignalGuard signals;
-  CheckpointSink sink(dir, p, cmd.checkpoints.every, world);
+  CheckpointSink sink(dir, p, output_options(cmd), cmd.checkpoints.every, world);
   sink.attach(context);
   const int threads = apply_threads(cmd.threads);
   if (!cmd.quiet)

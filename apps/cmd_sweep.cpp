@@ -10,6 +10,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "io/atomic_file.h"
+#include "io/build_info.h"
 #include "io/json_file.h"
 #include "io/png.h"
 #include "io/run_report.h"
@@ -120,8 +121,21 @@ void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& qu
       r.converged ? "" : " NOT converged");
 }
 
+// What the sweep writes besides the members' fields, kept in sweep.json (and each member's
+// checkpoint): `sweep --resume DIR` alone writes the folder the uninterrupted sweep would have.
+nlohmann::json output_options(const SweepCommand& cmd) {
+  return {{"float32", cmd.float32},
+          {"no_preview", cmd.pages.no_preview},
+          {"no_report", cmd.pages.no_report},
+          {"no_plot", cmd.no_plot},
+          {"python", cmd.python},
+          {"plot_script", cmd.plot_script},
+          {"checkpoint_every", cmd.checkpoints.every}};
+}
+
 // sweep.json: what the sweep was (per-member parameters are in each report.json).
-nlohmann::json sweep_summary(const SweepParams& sp, std::size_t members, int threads, double wall) {
+nlohmann::json sweep_summary(const SweepParams& sp, const SweepCommand& cmd, std::size_t members,
+                             int threads, double wall) {
   nlohmann::json summary = {{"members", members},
                             {"surfaces", sp.surfaces},
                             {"volume_fractions", sp.fractions},
@@ -129,18 +143,23 @@ nlohmann::json sweep_summary(const SweepParams& sp, std::size_t members, int thr
                             {"threads", threads},
                             {"wall_seconds", wall},
                             {"version", version_string()},
-                            {"parameters", params_json(sp.run)}};
+                            {"build", build_info_json()},
+                            {"parameters", params_json(sp.run)},
+                            {"outputs", output_options(cmd)}};
   summary["parameters"].erase("surface");  // per member
   summary["parameters"].erase("volume_fraction");
   return summary;
 }
 
-// sweep --resume: the sweep that sweep.json describes; options given must agree with it.
-SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, const fs::path& dir) {
+// sweep --resume: the sweep that sweep.json describes (its ranges checked as the command
+// line's); options given must agree with it, output options not given take its values.
+SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCommand& cmd,
+                          const fs::path& dir) {
   const fs::path file = dir / "sweep.json";
   SweepParams sp;
+  nlohmann::json j;
   try {
-    const nlohmann::json j = read_json_file(file);
+    j = read_json_file(file);
     j.at("surfaces").get_to(sp.surfaces);
     j.at("volume_fractions").get_to(sp.fractions);
     j.at("continuation").get_to(sp.continuation);
@@ -149,6 +168,26 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, const f
     throw;
   } catch (const std::exception& e) {
     throw UsageError(fmt::format("--resume {}: no sweep to resume ({})", dir.string(), e.what()));
+  }
+  try {
+    check_sweep_params(sp);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
+  }
+  if (j.contains("outputs")) {
+    if (!j["outputs"].is_object())
+      throw UsageError(fmt::format("--resume: {}: 'outputs' is not an object", file.string()));
+    const OutputRestorer r(app, j["outputs"], file);
+    r.restore("--float32", "float32", cmd.float32);
+    r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
+    r.restore("--no-report", "no_report", cmd.pages.no_report);
+    r.restore("--no-plot", "no_plot", cmd.no_plot);
+    r.restore("--python", "python", cmd.python);
+    r.restore("--plot-script", "plot_script", cmd.plot_script);
+    r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
+    if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
+      throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
+                                   file.string(), cmd.checkpoints.every));
   }
   auto differs = [&](const char* option, bool d) {
     if (d && app.count(option))
@@ -176,19 +215,21 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   }
   SweepParams sp = validate(cmd);
   const fs::path dir(cmd.out);
-  if (resuming) sp = resumed_sweep(app, sp, dir);
+  if (resuming) sp = resumed_sweep(app, sp, cmd, dir);
   const int threads = apply_threads(cmd.threads);
   const auto t0 = std::chrono::steady_clock::now();
   ensure_directory(dir);
+  remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
   // sweep.json first, marked incomplete, so that an interrupted sweep can be resumed.
   if (!resuming) {
-    nlohmann::json started = sweep_summary(sp, sp.surfaces.size() * sp.fractions.size(), threads, 0);
+    nlohmann::json started =
+        sweep_summary(sp, cmd, sp.surfaces.size() * sp.fractions.size(), threads, 0);
     started["complete"] = false;
     write_json_atomic(dir / "sweep.json", started);
   }
   const std::string resume_cmd = fmt::format("{} sweep --resume {}", self_executable(), dir.string());
   SignalGuard signals;
-  CheckpointSink sink(dir, sp.run, cmd.checkpoints.every, nullptr);
+  CheckpointSink sink(dir, sp.run, output_options(cmd), cmd.checkpoints.every, nullptr);
   SweepMember current;
   int skipped = 0, resumed = 0;
   std::vector<nlohmann::json> reports;
@@ -228,11 +269,16 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     current = m;
     const fs::path mdir = dir / m.name;
     sink.retarget(mdir, m.params);
+    if (fs::is_directory(mdir)) remove_leftover_temporaries(mdir, cmd.quiet);
     MemberStart start;
     if (resuming && fs::exists(mdir / kCheckpointFileName)) {
-      nlohmann::json saved;
-      start.checkpoint = load_checkpoint(mdir, &saved, nullptr);
-      if (saved != params_json(m.params))
+      // A continued member goes on through relax_to_volume_fraction, the first of a family
+      // through run_cmc (pipeline/sweep.h): the checkpoint must fit that run.
+      const RunEntry entry =
+          m.started_from == "nodal" ? RunEntry::kCmc : RunEntry::kRelaxToVolume;
+      LoadedCheckpoint loaded = load_checkpoint(mdir, entry, nullptr);
+      start.checkpoint = std::move(loaded.checkpoint);
+      if (loaded.params != params_json(m.params))
         throw UsageError(fmt::format("--resume: {} belongs to a run with other parameters than "
                                      "the sweep's member {}",
                                      (mdir / kCheckpointFileName).string(), m.name));
@@ -255,6 +301,9 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
               std::move(read_vti(mdir / "field.vti", VtiReadOptions{2, 1 << 13, "phi"}).arrays["phi"]);
         reports.push_back(std::move(report));
         write_file_atomic(dir / "sweep.csv", sweep_csv(reports));
+        // Its tile, so that gallery.png shows every member (as the uninterrupted sweep's).
+        if (!cmd.pages.no_preview)
+          gallery.push_back(gallery_member_from_folder(mdir, m.surface, m.name, m.alpha));
         ++skipped;
         if (!cmd.quiet)
           std::cerr << fmt::format("[{}/{}] {}: complete, kept\n", m.index + 1, m.count, m.name);
@@ -285,7 +334,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!cmd.no_plot) plot(cmd, dir);
-  nlohmann::json summary = sweep_summary(sp, reports.size(), threads, wall);
+  nlohmann::json summary = sweep_summary(sp, cmd, reports.size(), threads, wall);
   summary["complete"] = true;
   if (resuming) summary["resumed"] = {{"members_kept", skipped}, {"members_resumed", resumed}};
   if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);

@@ -84,10 +84,11 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
                    "and resumes the interrupted one");
 }
 
-CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, double every,
-                               std::shared_ptr<const Decomposition> world)
+CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, nlohmann::json outputs,
+                               double every, std::shared_ptr<const Decomposition> world)
     : dir_(std::move(dir)),
       params_(params_json(params)),
+      outputs_(std::move(outputs)),
       every_(every),
       world_(std::move(world)),
       last_(now_seconds()) {}
@@ -137,7 +138,7 @@ void CheckpointSink::write(const Checkpoint& c) {
   const double t0 = now_seconds();
   const bool split = world_ && world_->distributed();
   if (!split) {
-    write_checkpoint(dir_ / kCheckpointFileName, params_, c);
+    write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   } else {
     // Rank 0 writes the whole grid; the gathers are collective, so every rank takes part.
     Checkpoint whole;
@@ -159,7 +160,7 @@ void CheckpointSink::write(const Checkpoint& c) {
       RunResult r = c.result;  // its block's copy is small; the whole phi replaces it
       r.phi = std::move(phi);
       whole.result = std::move(r);
-      write_checkpoint(dir_ / kCheckpointFileName, params_, whole);
+      write_checkpoint(dir_ / kCheckpointFileName, params_, whole, outputs_);
     }
   }
   ++written_;
@@ -212,18 +213,28 @@ int finish_interrupted(const fs::path& dir, const RunParams& params, RunInterrup
   return SignalGuard::exit_code();
 }
 
-std::shared_ptr<const Checkpoint> load_checkpoint(
-    const fs::path& dir, nlohmann::json* params,
-    const std::shared_ptr<const Decomposition>& world) {
+LoadedCheckpoint load_checkpoint(const fs::path& dir, RunEntry entry,
+                                 const std::shared_ptr<const Decomposition>& world) {
+  const fs::path file = dir / kCheckpointFileName;
   CheckpointFile f;
   try {
-    f = read_checkpoint(dir / kCheckpointFileName);
+    f = read_checkpoint(file);
   } catch (const CheckpointError& e) {
     throw UsageError(fmt::format("--resume: {}", e.what()));
   }
-  if (params) *params = f.params;
+  // Before any field is cut into blocks: the run of these parameters must pass through the
+  // checkpoint's grid and stage, on this many processes.
+  const bool split = world && world->distributed();
+  const std::string problem = resume_problem(f.checkpoint, params_from_json(f.params), entry,
+                                             split ? world.get() : nullptr);
+  if (!problem.empty())
+    throw UsageError(fmt::format("--resume: {}: a run with its parameters cannot continue it{}: {}",
+                                 file.string(),
+                                 split ? fmt::format(" on {} processes", world->ranks()) : "",
+                                 problem));
+  LoadedCheckpoint loaded{std::move(f.params), std::move(f.outputs), nullptr};
   auto c = std::make_shared<Checkpoint>(std::move(f.checkpoint));
-  if (world && world->distributed()) {  // this process's blocks of the whole fields
+  if (split) {  // this process's blocks of the whole fields
     auto cut = [&](Field& whole) {
       if (whole.n() == 0) return;
       Field block(whole.n(), whole.ghost(), world);
@@ -236,7 +247,22 @@ std::shared_ptr<const Checkpoint> load_checkpoint(
     cut(c->stepper.prev_phi);
     cut(c->stepper.prev_nu);
   }
-  return c;
+  loaded.checkpoint = std::move(c);
+  return loaded;
+}
+
+void OutputRestorer::throw_bad(const char* key) const {
+  throw UsageError(fmt::format("--resume: {}: output option '{}' is {}, not a value of its "
+                               "type",
+                               file_.string(), key, saved_.at(key).dump()));
+}
+
+void remove_leftover_temporaries(const fs::path& dir, bool quiet) {
+  const int removed = remove_stale_temporaries(dir);
+  if (removed > 0 && !quiet)
+    std::cerr << fmt::format("removed {} unfinished temporary file(s) an earlier process left "
+                             "in {}\n",
+                             removed, dir.string());
 }
 
 RunParams resumed_params(const CLI::App& app, const RunParams& given, const nlohmann::json& saved,

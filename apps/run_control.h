@@ -44,8 +44,10 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
 // warning: the run goes on.
 class CheckpointSink {
  public:
-  CheckpointSink(std::filesystem::path dir, const RunParams& params, double every,
-                 std::shared_ptr<const Decomposition> world);
+  // `outputs`: the run's output options, kept in the checkpoint so that --resume writes the
+  // folder the uninterrupted run would have written.
+  CheckpointSink(std::filesystem::path dir, const RunParams& params, nlohmann::json outputs,
+                 double every, std::shared_ptr<const Decomposition> world);
   void attach(RunContext& context);
   // The next checkpoints go to another folder, of a run with other parameters (a sweep's
   // members).
@@ -58,6 +60,7 @@ class CheckpointSink {
  private:
   std::filesystem::path dir_;
   nlohmann::json params_;
+  nlohmann::json outputs_;
   double every_;
   std::shared_ptr<const Decomposition> world_;
   double last_ = 0.0;  // steady-clock seconds of the start or the last checkpoint
@@ -74,11 +77,44 @@ int finish_interrupted(const std::filesystem::path& dir, const RunParams& params
                        const std::string& resume_command, bool quiet,
                        const nlohmann::json& extra = {});
 
-// dir/checkpoint.bin for `run --resume dir` or a sweep member: read (the fields cut to this
-// process's blocks under a decomposition). Any problem is a UsageError naming the file.
-std::shared_ptr<const Checkpoint> load_checkpoint(const std::filesystem::path& dir,
-                                                  nlohmann::json* params,
-                                                  const std::shared_ptr<const Decomposition>& world);
+// dir/checkpoint.bin for `run --resume dir` or a sweep member: read, checked against the run
+// that continues it (`entry` with the checkpoint's own parameters, on `world`: resume_problem),
+// and the fields cut to this process's blocks under a decomposition. Any problem is a
+// UsageError naming the file.
+struct LoadedCheckpoint {
+  nlohmann::json params;   // params_json of the run, in range
+  nlohmann::json outputs;  // the output options it was started with (an object)
+  std::shared_ptr<const Checkpoint> checkpoint;
+};
+LoadedCheckpoint load_checkpoint(const std::filesystem::path& dir, RunEntry entry,
+                                 const std::shared_ptr<const Decomposition>& world);
+
+// Output options kept for a resume (a checkpoint's or sweep.json's "outputs"): each one the
+// command line did not give takes the saved value. `restore(option, key, value)` does one;
+// a saved value of the wrong type is a UsageError naming `file`.
+class OutputRestorer {
+ public:
+  OutputRestorer(const CLI::App& app, const nlohmann::json& saved, std::filesystem::path file)
+      : app_(app), saved_(saved), file_(std::move(file)) {}
+  template <class T>
+  void restore(const char* option, const char* key, T& value) const {
+    if (app_.count(option) > 0 || !saved_.contains(key)) return;
+    try {
+      saved_.at(key).get_to(value);
+    } catch (const nlohmann::json::exception&) {
+      throw_bad(key);
+    }
+  }
+
+ private:
+  [[noreturn]] void throw_bad(const char* key) const;
+  const CLI::App& app_;
+  const nlohmann::json& saved_;
+  std::filesystem::path file_;
+};
+
+// Removes what a writer killed before its commit left in dir (io/atomic_file.h), saying so.
+void remove_leftover_temporaries(const std::filesystem::path& dir, bool quiet);
 
 // This executable's path (for the resume command printed on interruption).
 std::string self_executable();

@@ -1,11 +1,14 @@
 #include "io/atomic_file.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <regex>
 #include <stdexcept>
 #include <system_error>
 
@@ -20,6 +23,20 @@ std::filesystem::path temp_name_for(const std::filesystem::path& target) {
   std::filesystem::path temp = target;
   temp += fmt::format(".tmp.{}.{}", static_cast<long>(::getpid()), seq++);
   return temp;
+}
+
+// fsync of a file or directory by path; returns 0 or the errno.
+int sync_path(const std::filesystem::path& path, bool directory) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (directory ? O_DIRECTORY : 0));
+  if (fd < 0) return errno;
+  int err = 0;
+  while (::fsync(fd) != 0) {
+    if (errno == EINTR) continue;
+    err = errno;
+    break;
+  }
+  ::close(fd);
+  return err;
 }
 
 }  // namespace
@@ -65,18 +82,47 @@ void AtomicWriter::commit() {
     throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): {}", target_.string(),
                                          temp_.string(), why));
   }
+  // The data reaches the disk before the name does: after a power cut the target is either
+  // the old file or the whole new one. (A full disk or an I/O error can surface only here.)
+  if (const int err = sync_path(temp_, false); err != 0)
+    throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): fsync: {}",
+                                         target_.string(), temp_.string(), std::strerror(err)));
   if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
     const int err = errno;
     throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", temp_.string(),
                                          target_.string(), std::strerror(err)));
   }
   committed_ = true;
+  const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+  // EINVAL: a file system that cannot sync directories; the rename is done either way.
+  if (const int err = sync_path(parent, true); err != 0 && err != EINVAL)
+    throw std::runtime_error(fmt::format("'{}' is in place, but its directory could not be "
+                                         "synced to the disk: {}",
+                                         target_.string(), std::strerror(err)));
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view contents) {
   AtomicWriter writer(path);
   writer.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
   writer.commit();
+}
+
+int remove_stale_temporaries(const std::filesystem::path& dir) {
+  static const std::regex temporary(R"(.+\.tmp\.(\d+)\.\d+)");
+  std::error_code ec;
+  int removed = 0;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::smatch m;
+    if (!std::regex_match(name, m, temporary) || !it->is_regular_file(ec)) continue;
+    const long long pid = std::stoll(m[1].str().substr(0, 18));
+    const bool mine = pid == static_cast<long long>(::getpid());
+    const bool gone =
+        pid <= 0 || pid > 0x7fffffffLL || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH);
+    std::error_code rm;
+    if ((mine || gone) && std::filesystem::remove(it->path(), rm)) ++removed;
+  }
+  return removed;
 }
 
 void ensure_directory(const std::filesystem::path& dir) {

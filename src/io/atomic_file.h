@@ -1,7 +1,6 @@
-// Crash-safe file output: write to a temporary name beside the target, then
-// rename into place, so a reader never sees a half-written file under the
-// target name. (Guards against process crashes; no fsync, so not against
-// power loss.)
+// Crash-safe file output: write to a temporary name beside the target, sync it to the disk,
+// rename it into place and sync the directory, so that neither a crashed process nor a power
+// cut leaves a half-written file under the target name (docs/reliability.md).
 #pragma once
 
 #include <filesystem>
@@ -25,7 +24,8 @@ class AtomicWriter {
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& temp_path() const { return temp_; }
 
-  // Flushes, closes and renames the temporary onto the target.
+  // Flushes, closes, syncs (fsync) and renames the temporary onto the target, then syncs the
+  // directory so that the new name survives a power cut too.
   void commit();
 
  private:
@@ -36,6 +36,11 @@ class AtomicWriter {
 };
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view contents);
+
+// Removes the temporaries (`<name>.tmp.<pid>.<seq>`) that a writer killed before its commit
+// (kill -9, a second signal) left directly in dir: those of this process and of processes that
+// no longer exist. Returns how many; errors are ignored (best effort).
+int remove_stale_temporaries(const std::filesystem::path& dir);
 
 // Creates `dir` and its parents; fine if it already is a directory. Throws
 // std::runtime_error if it exists as something else or cannot be created.

@@ -257,4 +257,35 @@ double write_gallery(const fs::path& dir, const std::vector<GalleryMember>& memb
   return seconds_since(t0);
 }
 
+GalleryMember gallery_member_from_folder(const fs::path& member_dir, const std::string& surface,
+                                         const std::string& name, double alpha) {
+  const nlohmann::json report = read_json_file(member_dir / "report.json");
+  const double h = number_or(report, "mean_curvature", 0.0);
+  PreviewSurfaces s = preview_surfaces(read_phi(member_dir), surface, 0.0, h, kPreviewCells, false);
+  return {surface, name, alpha, h, std::move(s.relaxed)};
+}
+
+double write_gallery_from_folder(const fs::path& dir) {
+  const auto t0 = Clock::now();
+  const fs::path summary_path = dir / "sweep.json";
+  const nlohmann::json summary = read_json_file(summary_path);
+  std::vector<std::string> surfaces;
+  std::vector<double> fractions;
+  try {
+    surfaces = summary.at("surfaces").get<std::vector<std::string>>();
+    fractions = summary.at("volume_fractions").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(
+        fmt::format("'{}' lacks surfaces or volume_fractions: {}", summary_path.string(), e.what()));
+  }
+  std::vector<GalleryMember> members;
+  for (std::size_t si = 0; si < surfaces.size(); ++si)
+    for (double alpha : fractions) {
+      const std::string name = member_name(surfaces[si], int(si), alpha);
+      members.push_back(gallery_member_from_folder(dir / name, surfaces[si], name, alpha));
+    }
+  write_gallery(dir, members);
+  return seconds_since(t0);
+}
+
 }  // namespace cmcsurf

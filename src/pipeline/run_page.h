@@ -30,5 +30,14 @@ struct GalleryMember {
 // Draws dir/gallery.png: one row per family, members in sweep order, on one colour scale
 // centred on H = 0, beside dir/families.png if it exists. Returns the stage's wall time.
 double write_gallery(const std::filesystem::path& dir, const std::vector<GalleryMember>& members);
+// A member's tile from its folder alone (report.json, field.vti): the tile the sweep drew when
+// it computed the member (the same surface from a Float64 field), for members an earlier
+// invocation computed (sweep --resume).
+GalleryMember gallery_member_from_folder(const std::filesystem::path& member_dir,
+                                         const std::string& surface, const std::string& name,
+                                         double alpha);
+// gallery.png of every member sweep.json lists, from their folders (cmcsurf report on a sweep
+// without one). Returns the wall time.
+double write_gallery_from_folder(const std::filesystem::path& dir);
 
 }  // namespace cmcsurf

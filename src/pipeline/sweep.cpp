@@ -11,6 +11,7 @@
 #include "measure/measures.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
+#include "pipeline/run_options.h"
 #include "surfaces/nodal_level.h"
 #include "surfaces/initial.h"
 
@@ -120,6 +121,24 @@ std::vector<std::string> parse_surface_list(const std::string& spec) {
     out.push_back(name);
   }
   return out;
+}
+
+void check_sweep_params(const SweepParams& params) {
+  if (params.surfaces.empty()) throw std::invalid_argument("no surfaces");
+  for (const std::string& name : params.surfaces) {
+    validate_surface(name);
+    if (!is_nodal_surface(name))
+      throw std::invalid_argument(fmt::format("'{}' has no nodal formula to sweep", name));
+  }
+  if (params.fractions.empty() || int(params.fractions.size()) > kMaxMembers)
+    throw std::invalid_argument(fmt::format("{} volume fractions; accepted: 1 to {}",
+                                            params.fractions.size(), kMaxMembers));
+  for (double v : params.fractions) check_fraction(v, "volume_fractions");
+  try {
+    check_run_params(params.run, false);
+  } catch (const OptionError& e) {
+    throw std::invalid_argument(e.what());
+  }
 }
 
 std::string member_name(const std::string& surface, int surface_index, double alpha) {

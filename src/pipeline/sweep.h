@@ -31,6 +31,11 @@ struct SweepParams {
   bool continuation = false;  // start each member from the previous one of its family
 };
 
+// The checks parse_surface_list, parse_volume_fractions and check_run_params (without the
+// per-member surface and fraction) make, on a sweep read back from sweep.json: at least one
+// nodal surface, 1 to 1000 fractions in (0, 1). Throws std::invalid_argument naming the problem.
+void check_sweep_params(const SweepParams& params);
+
 struct SweepMember {
   int index = 0;  // over the whole sweep
   int count = 0;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # A sweep stopped by SIGTERM in its second member resumes (docs/reliability.md): complete
 # members are kept, the interrupted one continues from its checkpoint, the rest run, and
-# sweep.csv and every field.vti equal the uninterrupted sweep's; disagreeing options are refused.
+# sweep.csv and every field.vti equal the uninterrupted sweep's, with the same files (the
+# printed resume command alone restores the output options); disagreeing options and a
+# sweep.json whose parameters are out of range are refused.
 set -u
 bin="$1"
 work=$(mktemp -d)
@@ -28,9 +30,28 @@ grep -q "resume with: .* sweep --resume $work/cut" "$work/cut.log" || { echo "FA
 "$bin" sweep --resume "$work/cut" --grid 64 2>"$work/err"
 rc=$?
 [ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" || { echo "FAIL: --grid 64 exit $rc"; cat "$work/err"; fail=1; }
+# sweep.json edited out of range (a parameter, a volume fraction): exit 2 naming it, nothing
+# changes.
+for edit in 's["parameters"]["epsilon"] = -1' 's["volume_fractions"][1] = 1.5'; do
+  cp -r "$work/cut" "$work/bad"
+  python3 -c "
+import json; f = '$work/bad/sweep.json'; s = json.load(open(f)); $edit; json.dump(s, open(f, 'w'))"
+  before=$(find "$work/bad" -type f -exec md5sum {} + | sort | md5sum)
+  "$bin" sweep --resume "$work/bad" 2>"$work/err"
+  rc=$?
+  [ $rc = 2 ] && grep -q "sweep.json.*\(epsilon\|1.5\)" "$work/err" ||
+    { echo "FAIL: sweep.json with $edit: exit $rc"; cat "$work/err"; fail=1; }
+  [ "$before" = "$(find "$work/bad" -type f -exec md5sum {} + | sort | md5sum)" ] ||
+    { echo "FAIL: a refused sweep resume changed files"; fail=1; }
+  rm -rf "$work/bad"
+done
 
-"$bin" sweep --resume "$work/cut" --no-plot --no-preview --no-report 2>"$work/resume.log" ||
-  { echo "FAIL: resume"; cat "$work/resume.log"; fail=1; }
+# The printed command alone: the output options (--no-plot, --no-preview, --no-report) come
+# from sweep.json.
+hint=$(sed -n 's/^resume with: //p' "$work/cut.log")
+$hint 2>"$work/resume.log" || { echo "FAIL: resume"; cat "$work/resume.log"; fail=1; }
+[ "$(ls "$work/whole")" = "$(ls "$work/cut")" ] ||
+  { echo "FAIL: files: $(ls "$work/whole") vs $(ls "$work/cut")"; fail=1; }
 grep -q "P_0.30: complete, kept" "$work/resume.log" || { echo "FAIL: P_0.30 not kept"; fail=1; }
 python3 - "$work/whole" "$work/cut" <<'PY' || fail=1
 import csv, json, sys
