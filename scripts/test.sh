@@ -41,6 +41,7 @@ if [ "$asan_build" != none ]; then
   asan_slow+='|Sweep\.BalancedSurfaceIsSymmetricInVolumeFraction'
   asan_slow+='|cli\.checkpoint_resume|cli\.report_page)$'
   ASAN_OPTIONS=abort_on_error=1 UBSAN_OPTIONS=abort_on_error=1:print_stacktrace=1 \
+  LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0" \
     ctest --test-dir "$asan_build" --output-on-failure -j 2 --timeout 600 -L 'unit|cli' \
           -E "$asan_slow"
 fi
