@@ -287,7 +287,8 @@ int run_scaffold(ScaffoldCommand& cmd) {
   if (shape) part.report["shape"]["file"] = cmd.shape;
   if (cmd.compare_nodal) {
     if (!cmd.quiet) std::cerr << "building the nodal twin (--compare-nodal)\n";
-    part.report["compare_nodal"] = compare_with_nodal(phi, cmd.params, d, part);
+    part.report["compare_nodal"] =
+        compare_with_nodal(phi, cmd.params, d, part, shape ? &*shape : nullptr);
   }
   const nlohmann::json& r = part.report;
   plan.meta.title = fmt::format("cmcsurf {} {} scaffold", cmd.surface, cmd.solid);
@@ -330,13 +331,31 @@ int run_scaffold(ScaffoldCommand& cmd) {
           m["specific_surface"].get<double>(), d.units, m["wall_thickness"]["mean"].get<double>(),
           m["wall_thickness"]["min"].get<double>(), d.units, m["pore_size"]["mean"].get<double>(),
           m["pore_size"]["min"].get<double>(), d.units);
+    if (m.contains("members")) {
+      // A ramp: each member's cell, from the most porous to the densest.
+      std::string line = fmt::format("specific surface {:.4g} 1/{}; wall thickness and pore size "
+                                     "mean (min) per member, {}:",
+                                     m["specific_surface"].get<double>(), d.units, d.units);
+      for (auto it = m["members"].begin(); it != m["members"].end(); ++it)
+        line += fmt::format("{} porosity {:.2f}: wall {:.3g} ({:.3g}), pore {:.3g} ({:.3g})",
+                            it == m["members"].begin() ? "" : ";",
+                            (*it)["porosity"].get<double>(),
+                            (*it)["wall_thickness"]["mean"].get<double>(),
+                            (*it)["wall_thickness"]["min"].get<double>(),
+                            (*it)["pore_size"]["mean"].get<double>(),
+                            (*it)["pore_size"]["min"].get<double>());
+      std::cerr << line << "\n";
+    }
     if (r.contains("graded")) {
       std::string line = "porosity per cell along " + cmd.axis + ":";
       for (const auto& b : r["graded"]["profile"])
         line += fmt::format(" {:.3f}", b["porosity_nodes"].get<double>());
       std::cerr << line << " (lattice nodes)\n";
     }
-    if (r.contains("compare_nodal")) {
+    if (r.contains("compare_nodal") && r["compare_nodal"]["nodal"].contains("error")) {
+      std::cerr << "--compare-nodal: the nodal twin is not a valid part: "
+                << r["compare_nodal"]["nodal"]["error"].get<std::string>() << "\n";
+    } else if (r.contains("compare_nodal")) {
       const auto& c = r["compare_nodal"];
       std::cerr << fmt::format("{:<28} {:>12} {:>12}\n", "--compare-nodal", "CMC", "nodal");
       auto row = [&](const std::string& name, const nlohmann::json& a, const nlohmann::json& b) {
@@ -353,12 +372,19 @@ int run_scaffold(ScaffoldCommand& cmd) {
       if (c["cmc"].contains("thickness"))
         row("sheet thickness (" + d.units + ")", c["cmc"]["thickness"], c["nodal"]["thickness"]);
     }
-    if (r.contains("decimation"))
-      std::cerr << fmt::format("decimated {} -> {} triangles (error {:.3g} {}, volume {:+.2e})\n",
-                               r["decimation"]["triangles_before"].get<long>(),
-                               r["decimation"]["triangles_after"].get<long>(),
-                               r["decimation"]["error"].get<double>(), d.units,
-                               r["decimation"]["volume_change"].get<double>());
+    if (r.contains("decimation")) {
+      const auto& dm = r["decimation"];
+      if (dm["applied"].get<bool>())
+        std::cerr << fmt::format(
+            "decimated {} -> {} triangles ({} -> {} bytes as binary STL; error {:.3g} {}, "
+            "volume {:+.2e})\n",
+            dm["triangles_before"].get<long>(), dm["triangles_after"].get<long>(),
+            dm["stl_bytes_before"].get<long>(), dm["stl_bytes_after"].get<long>(),
+            dm["error"].get<double>(), d.units, dm["volume_change"].get<double>());
+      else
+        std::cerr << fmt::format("not decimated ({} triangles): {}\n",
+                                 dm["triangles_before"].get<long>(), dm["note"].get<std::string>());
+    }
     std::cerr << fmt::format("wrote {} ({} bytes) and {}.json\n", plan.out.string(),
                              std::filesystem::file_size(plan.out), plan.out.string());
   }

@@ -1,12 +1,15 @@
 // Mesh-size control for printed parts (docs/scaffolds.md): quadric edge-collapse decimation by
 // OpenMesh's decimater (Debian libopenmesh-dev), which refuses collapses that would break the
-// manifold (link condition) and, with a tolerance, those that move the surface further than it
-// (Hausdorff module). The flat caps on the box faces are kept. A result is accepted only while
-// the solid stays closed, manifold, as many pieces, with its volume within a tolerance;
-// otherwise the budget is relaxed (or the tolerance halved) and it retries.
+// manifold (link condition) and, with a tolerance, those that move samples of the input surface
+// further than it (a sampled Hausdorff module, decimate.cpp). The box's edges are kept, and with
+// a tolerance the caps' outlines and creases. A result is accepted only while the solid stays
+// closed, manifold, as many pieces, with its volume within a tolerance and the symmetric error
+// measured within the tolerance; otherwise the budget is relaxed (or the tolerance halved)
+// and it retries.
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -23,18 +26,37 @@ struct DecimateParams {
 struct Decimated {
   TriMesh mesh;
   std::size_t triangles_before = 0, triangles_after = 0;
-  double error = 0.0;          // largest distance from the input's vertices to the result
+  // Symmetric: the larger of the largest distances from points on the input to the result
+  // and from points on the result to the input, each triangle split into similar ones with
+  // edges of at most sample_spacing (about the input's mean edge) and their corners taken. The
+  // distance to a surface is 1-Lipschitz and every point of a triangle is within its longest
+  // edge / sqrt(3) of a corner, so the Hausdorff distance between the two surfaces is at most
+  // error + sample_spacing / sqrt(3).
+  double error = 0.0;
+  double error_input_to_output = 0.0, error_output_to_input = 0.0;
+  double sample_spacing = 0.0;
+  double module_tolerance = 0.0;  // the sampled Hausdorff module's bound in the accepted attempt
   double volume_change = 0.0;  // relative
-  int attempts = 0;
-  bool applied = false;        // false: no attempt passed the checks; mesh is the input
+  int attempts = 0;            // 0: nothing to do (the input is within the budget)
+  bool applied = false;        // false: no attempt passed the checks, or none was needed; mesh is the input
   bool within_budget = false;  // triangles_after <= max_triangles (or no budget)
+  std::string note;            // why nothing was applied
   double seconds = 0.0;
+  double error_seconds = 0.0;  // of which measuring the error
 };
+
+// The larger of the two one-sided sampled distances between a and b (Decimated::error) and
+// the sample spacing; exposed for the tests.
+struct SymmetricDistance {
+  double a_to_b = 0.0, b_to_a = 0.0, spacing = 0.0;
+};
+SymmetricDistance symmetric_distance(const TriMesh& a, const TriMesh& b);
 
 // Components of the mesh by shared vertices (surface shells).
 std::size_t mesh_shell_count(const TriMesh& m);
 
-// Throws std::invalid_argument when neither a budget nor a tolerance is given.
+// Throws std::invalid_argument when neither a budget nor a tolerance is given. A budget at or
+// above the input's triangle count (and no tolerance) returns the input at once.
 Decimated decimate_solid(const TriMesh& m, const DecimateParams& p);
 
 nlohmann::json decimated_json(const Decimated& d, const DecimateParams& p,

@@ -251,6 +251,8 @@ TEST(Part, DecimationKeepsTheSolid) {
     EXPECT_LE(std::abs(mesh_volume(dm.mesh) / v - 1.0), 5e-3);
     EXPECT_GT(dm.error, 0.0);
     EXPECT_LT(dm.error, 0.02);  // of a unit cell
+    EXPECT_EQ(dm.error, std::max(dm.error_input_to_output, dm.error_output_to_input));
+    EXPECT_GT(dm.error_output_to_input, 0.0);
   }
   DecimateParams p;
   p.tolerance = 0.002;
@@ -260,6 +262,51 @@ TEST(Part, DecimationKeepsTheSolid) {
   EXPECT_LE(dm.error, p.tolerance * 1.0001);
   expect_clean_solid(dm.mesh);
   EXPECT_THROW(decimate_solid(part.mesh, {}), std::invalid_argument);
+}
+
+// A budget the input already meets: nothing is attempted (no failed retries) and the report
+// says so.
+TEST(Part, DecimationWithinBudgetReturnsTheInput) {
+  ScaffoldDesign d;
+  d.cell_size = 1.0;
+  d.size = {1.0, 1.0, 1.0};
+  d.morphometry = false;
+  const ScaffoldPart part = design_scaffold(nodal("P", 16), d);
+  DecimateParams p;
+  p.max_triangles = part.mesh.triangles.size();
+  const Decimated dm = decimate_solid(part.mesh, p);
+  EXPECT_FALSE(dm.applied);
+  EXPECT_EQ(dm.attempts, 0);
+  EXPECT_TRUE(dm.within_budget);
+  EXPECT_EQ(dm.triangles_after, part.mesh.triangles.size());
+  EXPECT_EQ(dm.mesh.triangles, part.mesh.triangles);
+  EXPECT_NE(dm.note.find("within the budget"), std::string::npos);
+}
+
+// The decimation error is measured both ways. A flat square finely triangulated (a) against a
+// coarse pyramid of height 0.1 over it (b): b's apex is 0.1 from a, while a's points are all
+// nearer than that to b, so a one-sided measure from a would miss it; the bound holds.
+TEST(Part, DecimationErrorIsSymmetric) {
+  TriMesh a, b;
+  const int n = 20;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) a.vertices.push_back({double(i) / n, double(j) / n, 0.0});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t v = std::uint32_t(j * (n + 1) + i);
+      a.triangles.push_back({v, v + 1, v + n + 2});
+      a.triangles.push_back({v, v + n + 2, v + n + 1});
+    }
+  b.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0.1}};
+  b.triangles = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+  const SymmetricDistance d = symmetric_distance(a, b);
+  EXPECT_NEAR(d.b_to_a, 0.1, 1e-12);
+  EXPECT_LT(d.a_to_b, 0.1);
+  EXPECT_GT(d.a_to_b, 0.05);  // the centre of a: 0.1 cos(atan(0.2)) = 0.098 below the apex's faces
+  EXPECT_LE(d.spacing, std::sqrt(2.0) / n + 1e-12);
+  // Swapped, the directions swap.
+  const SymmetricDistance e = symmetric_distance(b, a);
+  EXPECT_NEAR(e.a_to_b, 0.1, 1e-12);
 }
 
 std::vector<std::uint8_t> voxels(int n, const std::function<bool(double, double, double)>& in) {

@@ -28,7 +28,8 @@ nlohmann::json side(const nlohmann::json& report, const CurvatureDistribution& h
 }  // namespace
 
 nlohmann::json compare_with_nodal(const Field& phi, const RunParams& params,
-                                  const ScaffoldDesign& d, const ScaffoldPart& cmc) {
+                                  const ScaffoldDesign& d, const ScaffoldPart& cmc,
+                                  const ShapeFill* shape) {
   const auto t0 = std::chrono::steady_clock::now();
   const CmcQuality q = measure_cmc_quality(phi, params);
   if (!q.has_nodal)
@@ -38,13 +39,19 @@ nlohmann::json compare_with_nodal(const Field& phi, const RunParams& params,
   Field twin = nodal_level_function(nodal);
   for_each_cell(twin.n(), [&](int i, int j, int k) { twin(i, j, k) += 0.5; });
   twin.exchange_halo();
-  const ScaffoldPart part = design_scaffold(twin, d);
   const double units = d.cell_size;
+  nlohmann::json nodal_side;
+  try {
+    nodal_side = side(design_scaffold(twin, d, shape).report, q.nodal, units);
+  } catch (const ClosedCellError& e) {
+    nodal_side = {{"error", e.what()}};  // the twin may close pores the CMC part keeps open
+  }
   return {{"cmc", side(cmc.report, q.relaxed, units)},
-          {"nodal", side(part.report, q.nodal, units)},
+          {"nodal", nodal_side},
           {"nodal_level", nodal.level},
-          {"note", "the same design from the nodal approximation at the member's volume fraction "
-                   "(surfaces/nodal_level.h); mean curvature and its area-weighted spread in "
+          {"shape", shape != nullptr},
+          {"note", "the same design (box or --shape) from the nodal approximation at the "
+                   "member's volume fraction (surfaces/nodal_level.h); mean curvature and its area-weighted spread in "
                    "1/" + d.units + ", sharp estimators (docs/families.md)"},
           {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
 }

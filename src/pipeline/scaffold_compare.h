@@ -12,10 +12,12 @@
 
 namespace cmcsurf {
 
-// phi: the member (computed with params); cmc: its part (design_scaffold(phi, d)). Builds the
-// twin's part (not written) and measures both surfaces' local mean curvature spread. Nodal
-// surfaces only (throws std::invalid_argument for sphere, cube, noise).
+// phi: the member (computed with params); cmc: its part (design_scaffold(phi, d, shape)).
+// Builds the twin's part (not written) with the same design and shape, and measures both
+// surfaces' local mean curvature spread. Nodal surfaces only (throws std::invalid_argument
+// for sphere, cube, noise).
 nlohmann::json compare_with_nodal(const Field& phi, const RunParams& params,
-                                  const ScaffoldDesign& d, const ScaffoldPart& cmc);
+                                  const ScaffoldDesign& d, const ScaffoldPart& cmc,
+                                  const ShapeFill* shape = nullptr);
 
 }  // namespace cmcsurf
