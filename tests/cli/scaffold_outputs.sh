@@ -59,6 +59,13 @@ json_has "$work/small.stl.json" within_budget true
 json_has "$work/small.stl.json" closed true
 json_has "$work/small.stl.json" manifold true
 check test "$(stat -c %s "$work/small.stl")" -le $((84 + 50 * 20000))
+# A budget the part already meets: nothing attempted, no warning, the report says why.
+"$bin" scaffold --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" --max-triangles 10000000 \
+  --out "$work/big.stl" 2>"$work/big.txt" || { echo "FAIL: scaffold --max-triangles 1e7"; fail=1; }
+json_has "$work/big.stl.json" attempts 0
+json_has "$work/big.stl.json" applied false
+check grep -q '"note": "the input is within the budget' "$work/big.stl.json"
+check test ! -s "$work/big.txt"
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written.
 "$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
