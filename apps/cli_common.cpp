@@ -1,6 +1,5 @@
 #include "cli_common.h"
 
-#include <omp.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -15,6 +14,8 @@
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "multigrid/fas.h"
+#include "parallel/decomposition.h"
+#include "parallel/threads.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
@@ -145,14 +146,18 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
 }
 
 void add_threads_option(CLI::App& app, int& threads) {
-  app.add_option("--threads", threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
+  app.add_option("--threads", threads,
+                 "OpenMP threads per process (0: OMP_NUM_THREADS, else all cores or, under "
+                 "mpirun, this rank's share of the cores it is bound to)")
       ->check(library_check(check_threads), "0 <= T <= " + std::to_string(kMaxThreads))
       ->capture_default_str();
 }
 
 int apply_threads(int threads) {
-  if (threads > 0) omp_set_num_threads(threads);
-  return omp_get_max_threads();
+  const ThreadChoice choice = choose_threads(threads);  // parallel/threads.h
+  if (!choice.warning.empty() && Decomposition::world()->rank() == 0)
+    fmt::print(stderr, "warning: {}\n", choice.warning);
+  return choice.threads;
 }
 
 Progress::Progress(bool quiet) : quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}

@@ -42,7 +42,9 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
 
 // --threads T (T >= 0; 0 keeps OMP_NUM_THREADS or all cores), for every command.
 void add_threads_option(CLI::App& app, int& threads);
-// Sets the OpenMP thread count (0 keeps the default) and returns the count in use.
+// Sets the OpenMP thread count (choose_threads: 0 keeps OMP_NUM_THREADS or, without it, all
+// cores, under mpirun each rank's share of its binding's cores) and returns the count in use;
+// rank 0 warns when an explicit count oversubscribes a node. Collective under mpirun.
 int apply_threads(int threads);
 
 // Prints a step line to stderr: in place on a terminal (at most ~10 per second), otherwise a

@@ -13,6 +13,7 @@
 #include "io/atomic_file.h"
 #include "io/build_info.h"
 #include "io/csv.h"
+#include "parallel/threads.h"
 #include "pipeline/run_options.h"
 #include "surfaces/initial.h"
 
@@ -201,6 +202,8 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   j["solver_seconds"] = r.solver_seconds;
   j["measure_seconds"] = r.measure_seconds;
   j["threads"] = threads;
+  // Under mpirun: every rank's OpenMP threads (parallel/threads.h), rank 0's are `threads`.
+  if (threads_per_rank().size() > 1) j["threads_per_rank"] = threads_per_rank();
   j["parameters"] = params_json(p);
   j["conventions"] = {
       {"phase_1", "phi > 1/2"},

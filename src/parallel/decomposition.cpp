@@ -228,6 +228,51 @@ void Decomposition::abort_all(int code) const {
   std::exit(code);
 }
 
+#ifdef CMCSURF_HAVE_MPI
+namespace {
+bool several_processes() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (!initialized) return false;
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  return ranks > 1;
+}
+}  // namespace
+#endif
+
+NodeGather allgather_on_node(const std::vector<std::uint64_t>& mine) {
+  NodeGather g;
+  g.values = mine;
+#ifdef CMCSURF_HAVE_MPI
+  if (!several_processes()) return g;
+  MPI_Comm node = MPI_COMM_NULL;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  MPI_Comm_rank(node, &g.node_rank);
+  MPI_Comm_size(node, &g.node_ranks);
+  const int count = int(mine.size());
+  g.values.resize(mine.size() * std::size_t(g.node_ranks));
+  MPI_Allgather(mine.data(), count, MPI_UINT64_T, g.values.data(), count, MPI_UINT64_T, node);
+  MPI_Comm_free(&node);
+#endif
+  return g;
+}
+
+std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& mine) {
+#ifdef CMCSURF_HAVE_MPI
+  if (several_processes()) {
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    const int count = int(mine.size());
+    std::vector<std::uint64_t> all(mine.size() * std::size_t(ranks));
+    MPI_Allgather(mine.data(), count, MPI_UINT64_T, all.data(), count, MPI_UINT64_T,
+                  MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return mine;
+}
+
 ParallelSession::ParallelSession(int* argc, char*** argv) {
 #ifdef CMCSURF_HAVE_MPI
   // Only the main thread calls MPI (OpenMP regions never do).

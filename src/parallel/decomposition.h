@@ -6,8 +6,10 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace cmcsurf {
 
@@ -89,6 +91,18 @@ class Decomposition {
   std::array<std::array<int, 2>, 3> neighbours_{};
   mutable CommStats stats_;
 };
+
+// Start-up collectives over every process of the run (MPI_COMM_WORLD), kept out of any
+// Decomposition's CommStats; every process passes the same number of values. Without MPI, before
+// MPI_Init or on one process they return `mine` alone.
+struct NodeGather {
+  int node_rank = 0;                  // this process among those on its node
+  int node_ranks = 1;                 // processes on its node (MPI_COMM_TYPE_SHARED)
+  std::vector<std::uint64_t> values;  // node_ranks x mine.size(), in node rank order
+};
+NodeGather allgather_on_node(const std::vector<std::uint64_t>& mine);
+// ranks x mine.size(), in MPI_COMM_WORLD rank order (= Decomposition::world()'s rank).
+std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& mine);
 
 // MPI_Init / MPI_Finalize around main (nothing without MPI).
 class ParallelSession {
