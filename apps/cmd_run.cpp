@@ -14,6 +14,7 @@
 #include "mesh_options.h"
 #include "multigrid/fas.h"
 #include "parallel/decomposition.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
@@ -76,10 +77,12 @@ void validate(RunCommand& cmd) {
   check_mesh_format(cmd.mesh_format);
 }
 
-// What the run writes besides the fields, kept in its checkpoints: `run --resume DIR` alone
-// writes the folder the uninterrupted run would have written.
+// What the run writes besides the fields, and its thread count (OpenMP's reductions add in
+// another order on another count), kept in its checkpoints: `run --resume DIR` alone writes
+// the folder the uninterrupted run would have written.
 nlohmann::json output_options(const RunCommand& cmd) {
-  return {{"float32", cmd.float32},
+  return {{"threads", cmd.threads},
+          {"float32", cmd.float32},
           {"mesh", cmd.mesh_format},
           {"no_preview", cmd.pages.no_preview},
           {"no_report", cmd.pages.no_report},
@@ -90,6 +93,9 @@ nlohmann::json output_options(const RunCommand& cmd) {
 void restore_output_options(RunCommand& cmd, const CLI::App& app, const nlohmann::json& saved,
                             const std::filesystem::path& file) {
   const OutputRestorer r(app, saved, file);
+  r.restore("--threads", "threads", cmd.threads);
+  if (const std::string why = check_threads(cmd.threads); !why.empty())
+    throw UsageError(fmt::format("--resume: {}: threads: {}", file.string(), why));
   r.restore("--float32", "float32", cmd.float32);
   r.restore("--mesh", "mesh", cmd.mesh_format);
   r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
@@ -181,9 +187,10 @@ int run(RunCommand& cmd, const CLI::App& app) {
   context.resume = resume;
   if (world->distributed()) context.decomposition = world;
   SignalGuard signals;
+  const int threads = apply_threads(cmd.threads);
+  cmd.threads = threads;  // the count in use, for the checkpoints
   CheckpointSink sink(dir, p, output_options(cmd), cmd.checkpoints.every, world);
   sink.attach(context);
-  const int threads = apply_threads(cmd.threads);
   if (!cmd.quiet)
     std::cerr << fmt::format(
         "cmcsurf {}: surface {} alpha {} N {} epsilon {} dt {:.3g} threads {}{}\n",

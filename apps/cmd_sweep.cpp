@@ -15,6 +15,7 @@
 #include "io/png.h"
 #include "io/run_report.h"
 #include "io/vti.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
@@ -124,7 +125,8 @@ void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& qu
 // What the sweep writes besides the members' fields, kept in sweep.json (and each member's
 // checkpoint): `sweep --resume DIR` alone writes the folder the uninterrupted sweep would have.
 nlohmann::json output_options(const SweepCommand& cmd) {
-  return {{"float32", cmd.float32},
+  return {{"threads", cmd.threads},
+          {"float32", cmd.float32},
           {"no_preview", cmd.pages.no_preview},
           {"no_report", cmd.pages.no_report},
           {"no_plot", cmd.no_plot},
@@ -178,6 +180,9 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
     if (!j["outputs"].is_object())
       throw UsageError(fmt::format("--resume: {}: 'outputs' is not an object", file.string()));
     const OutputRestorer r(app, j["outputs"], file);
+    r.restore("--threads", "threads", cmd.threads);
+    if (const std::string why = check_threads(cmd.threads); !why.empty())
+      throw UsageError(fmt::format("--resume: {}: threads: {}", file.string(), why));
     r.restore("--float32", "float32", cmd.float32);
     r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
     r.restore("--no-report", "no_report", cmd.pages.no_report);
@@ -217,6 +222,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   const fs::path dir(cmd.out);
   if (resuming) sp = resumed_sweep(app, sp, cmd, dir);
   const int threads = apply_threads(cmd.threads);
+  cmd.threads = threads;  // the count in use, kept in sweep.json for a resume
   const auto t0 = std::chrono::steady_clock::now();
   ensure_directory(dir);
   remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write

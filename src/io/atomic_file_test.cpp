@@ -1,5 +1,7 @@
 #include "io/atomic_file.h"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -104,6 +106,25 @@ TEST(IoAtomicFile, EnsureDirectory) {
     EXPECT_NE(msg.find("not a directory"), std::string::npos) << msg;
   }
   EXPECT_THROW(ensure_directory(file / "sub"), std::runtime_error);
+}
+
+// What a writer killed before its commit leaves: removed when its process is gone (or is this
+// one); another live process's temporary and every other file stay.
+TEST(IoAtomicFile, StaleTemporariesAreRemoved) {
+  TempDir tmp;
+  const std::string mine = std::to_string(::getpid());
+  const std::vector<std::string> gone = {"checkpoint.bin.tmp." + mine + ".0",
+                                         "field.vti.tmp.2147483647.3"};
+  const std::vector<std::string> kept = {"report.json.tmp.1.0",  // pid 1 is alive
+                                         "report.json", "notes.tmp", "x.tmp.a.b"};
+  for (const auto& names : {gone, kept})
+    for (const std::string& name : names) std::ofstream(tmp / name) << "partial";
+  std::filesystem::create_directories(tmp / "sub.tmp.2147483647.1");  // not a file
+  EXPECT_EQ(remove_stale_temporaries(tmp.dir()), 2);
+  for (const std::string& name : gone) EXPECT_FALSE(std::filesystem::exists(tmp / name)) << name;
+  for (const std::string& name : kept) EXPECT_TRUE(std::filesystem::exists(tmp / name)) << name;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "sub.tmp.2147483647.1"));
+  EXPECT_EQ(remove_stale_temporaries(tmp / "missing"), 0);
 }
 
 TEST(IoTempDir, RemovedWithContents) {

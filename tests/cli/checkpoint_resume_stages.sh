@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Interruptions beyond checkpoint_resume.sh's (docs/reliability.md, "Faults tried"): SIGTERM in
-# the pre-relaxation and in a volume correction's relaxation resumes to the same bits; a
+# the pre-relaxation and in a volume correction's relaxation resumes to the same bits (on the
+# run's two threads, which the checkpoint keeps); a
 # checkpoint of another build, and one with valid checksums but hostile contents, are refused
 # with exit 2 naming the problem, changing nothing; kill -9 while the outputs are written leaves
 # no report.json and nothing partial under a final name, and --resume then completes the folder
@@ -26,6 +27,7 @@ timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds"
 diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0, b.get("resumed_from_step")
+assert b["threads"] == a["threads"], (a["threads"], b["threads"])
 files = [sorted(os.listdir(d)) for d in sys.argv[1:3]]
 assert files[0] == files[1], f"the folders hold {files[0]} and {files[1]}"
 PY
@@ -66,8 +68,11 @@ refused() {  # $1: folder, $2: pattern the message must hold
 }
 
 # --- Stages: 40 pre-relaxation steps so that a signal can land in them (16^3, 1 s a run).
+# Two threads, which the bare --resume must take from the checkpoint (OpenMP's sums round
+# differently on another count); passive waiting, as ctest runs two tests at once.
+export OMP_WAIT_POLICY=PASSIVE
 args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-8
-      --prerelax-steps 40 --prerelax-epsilon-factor 1.5 --no-preview --no-report)
+      --prerelax-steps 40 --prerelax-epsilon-factor 1.5 --threads 2 --no-preview --no-report)
 "$bin" "${args[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain run"; exit 1; }
 for stage in prerelax volume; do
   out="$work/$stage"
