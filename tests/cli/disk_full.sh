@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A full disk during the writes: exit 1, an error that says so, no report.json (the folder reads
-# as incomplete) and no temporary or partial file under a final name. Needs a small tmpfs, so
-# root with mount rights; skipped otherwise.
+# as incomplete) and no temporary or partial file under a final name; during a periodic
+# checkpoint, a warning and the run goes on; during a signal's checkpoint, exit 1 saying so.
+# Needs a small tmpfs, so root with mount rights; skipped otherwise.
 set -u
 bin="$1"
 export OMP_NUM_THREADS=1
@@ -12,7 +13,9 @@ if ! mount -t tmpfs -o size=200k tmpfs "$work/small" 2>/dev/null; then
   echo "disk_full: skipped (cannot mount a tmpfs here)"
   exit 0
 fi
-trap 'umount "$work/small"; rm -rf "$work"' EXIT
+mkdir -p "$work/tiny"
+mount -t tmpfs -o size=100k tmpfs "$work/tiny"
+trap 'umount "$work/small" "$work/tiny"; rm -rf "$work"' EXIT
 fail=0
 "$bin" run --surface G --grid 32 --max-steps 3 --quiet --out "$work/small/run" 2>"$work/err"
 rc=$?
@@ -21,5 +24,39 @@ grep -q "No space left on device" "$work/err" || { echo "FAIL: message: $(cat "$
 [ -e "$work/small/run/report.json" ] && { echo "FAIL: report.json written"; fail=1; }
 [ -e "$work/small/run/field.vti" ] && { echo "FAIL: a partial field.vti under its final name"; fail=1; }
 if ls "$work/small/run" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$work/small/run")"; fail=1; fi
+
+# On 100 KB, a checkpoint does not fit (24^3: phi alone is 110 KB) but the outputs do (a
+# Float32 field of 55 KB): a warning and the run goes on; no checkpoint or temporary stays.
+"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate --max-steps 30 --constrain mass \
+  --float32 --no-preview --no-report --checkpoint-every 0.01 --quiet --out "$work/tiny/ck" 2>"$work/err"
+rc=$?
+[ "$rc" = 0 ] || { echo "FAIL: a run whose checkpoints do not fit exited $rc"; cat "$work/err"; fail=1; }
+grep -q "warning: no checkpoint written (.*No space left on device.*); the run goes on" "$work/err" ||
+  { echo "FAIL: no warning: $(cat "$work/err")"; fail=1; }
+python3 -c "
+import json; r = json.load(open('$work/tiny/ck/report.json'))
+assert r['checkpoints_written'] == 0 and r['stop_reason'] != 'interrupted', r['checkpoints_written']
+" || fail=1
+if ls "$work/tiny/ck" | grep -q "tmp\|checkpoint"; then echo "FAIL: left: $(ls "$work/tiny/ck")"; fail=1; fi
+
+# SIGTERM when its checkpoint cannot be written: exit 1 saying so, and no report that claims a
+# checkpoint.
+"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --tol 1e-9 --extrapolate --constrain mass --float32 \
+  --no-preview --no-report --out "$work/tiny/sig" 2>"$work/err" &
+pid=$!
+for _ in $(seq 1 500); do grep -q "^relax " "$work/err" && break; sleep 0.01; done
+kill -TERM $pid
+wait $pid
+rc=$?
+[ "$rc" = 1 ] && grep -q "interrupted at step .*, but no checkpoint was written: .*No space left" "$work/err" ||
+  { echo "FAIL: SIGTERM without room for the checkpoint: exit $rc"; cat "$work/err"; fail=1; }
+[ ! -e "$work/tiny/sig/checkpoint.bin" ] || { echo "FAIL: a checkpoint.bin"; fail=1; }
+if [ -e "$work/tiny/sig/report.json" ]; then
+  python3 -c "
+import json; r = json.load(open('$work/tiny/sig/report.json'))
+assert r['stop_reason'] == 'interrupted' and r['checkpoint']['file'] == '', r['checkpoint']
+" || fail=1
+fi
+if ls "$work/tiny/sig" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$work/tiny/sig")"; fail=1; fi
 [ "$fail" = 0 ] && echo "disk_full: all passed"
 exit "$fail"
