@@ -64,8 +64,8 @@ Vec3 to_vec3(const OMesh::Point& p) { return {p[0], p[1], p[2]}; }
 // OpenMesh's ModHausdorffT with the original surface sampled: a collapse is legal only while
 // every sample held by the faces around the removed vertex stays within the tolerance of the
 // faces after it. ModHausdorffT holds only the removed vertices, so the surface between them
-// may move further (measured: a quarter grid spacing where caps meet walls); here each face
-// starts with its edge midpoints and centroid, and removed vertices join as there.
+// may move further (measured: a quarter grid spacing where caps meet walls); here the faces
+// start with the edges' midpoints, and removed vertices join as there.
 template <class MeshT>
 class ModSampledHausdorffT : public OpenMesh::Decimater::ModBaseT<MeshT> {
  public:
@@ -79,19 +79,15 @@ class ModSampledHausdorffT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   void set_tolerance(double t) { tolerance_ = t; }
 
   void initialize() override {
-    for (const auto f : mesh_.faces()) {
-      Points& pts = mesh_.property(points_, f);
-      pts.clear();
-      Vec3 corner[3];
-      int c = 0;
-      for (const auto v : mesh_.fv_range(f)) corner[c++] = to_vec3(mesh_.point(v));
-      for (int e = 0; e < 3; ++e) {
-        const Vec3 &a = corner[e], &b = corner[(e + 1) % 3];
-        pts.push_back({0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])});
-      }
-      pts.push_back({(corner[0][0] + corner[1][0] + corner[2][0]) / 3,
-                     (corner[0][1] + corner[1][1] + corner[2][1]) / 3,
-                     (corner[0][2] + corner[1][2] + corner[2][2]) / 3});
+    for (const auto f : mesh_.faces()) mesh_.property(points_, f).clear();
+    // Each edge's midpoint once, held by one of its faces (adding the centroids changed a G
+    // sheet's result by 0.2 % of its triangles, at more cost).
+    for (const auto e : mesh_.edges()) {
+      const auto h = mesh_.halfedge_handle(e, 0);
+      const auto f = mesh_.face_handle(h).is_valid() ? mesh_.face_handle(h) : mesh_.opposite_face_handle(h);
+      const Vec3 a = to_vec3(mesh_.point(mesh_.from_vertex_handle(h)));
+      const Vec3 b = to_vec3(mesh_.point(mesh_.to_vertex_handle(h)));
+      mesh_.property(points_, f).push_back({0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])});
     }
   }
 
@@ -419,7 +415,7 @@ nlohmann::json decimated_json(const Decimated& d, const DecimateParams& p,
                      "(link condition), no normal flips over 60 degrees, no new triangle with an "
                      "aspect ratio over 20 unless it improves, the box's edges fixed; with a "
                      "tolerance also the caps' outlines and creases fixed and every sample of the "
-                     "input (vertices, edge midpoints, centroids) kept within module_tolerance of "
+                     "input (vertices, edge midpoints) kept within module_tolerance of "
                      "the result; accepted when closed, manifold, as many shells, the volume "
                      "within max_volume_change and the measured error within the tolerance"},
           {"error_note", "symmetric: the larger of the distances from points on the input to "
