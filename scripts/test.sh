@@ -25,8 +25,10 @@ fi
 # that solve the same problem twice to compare two solver settings (the coarse-to-fine, the
 # adaptive-dt and the combined fast run against the direct one, and a sweep's symmetry: 55 s
 # of CPU here, their code runs here in the shorter Pipeline.* and Sweep.* tests);
-# cli.checkpoint_resume (runs, kills and resumes the solver six times: 100 s of CPU here; the
-# checkpoint writer and reader run here in Resume.*, cli.sweep_resume and the fuzz corpus);
+# cli.checkpoint_resume_stages and cli.checkpoint_resume_fast (96^3 and 64^3 runs; the
+# checkpoint writer, reader and resume run here in cli.checkpoint_resume at 16^3, Resume.*,
+# ResumeCheck.*, cli.sweep_resume and the fuzz corpus); cli.sweep_resume_gallery (14 s here;
+# the gallery's drawing runs in cli.sweep_outputs);
 # and cli.report_page (the page's JavaScript in chromium; this build skips the npm bundle, and
 # report.html's writer runs here in cli.run_outputs and cli.report_bad_input).
 asan_build="${CMCSURF_ASAN_BUILD_DIR:-build-asan}"
@@ -39,7 +41,8 @@ if [ "$asan_build" != none ]; then
   asan_slow+='|Pipeline\.CoarseToFineMatchesDirectRun|Pipeline\.AdaptiveTimeStepsKeepTheResult'
   asan_slow+='|Pipeline\.FastCombinationMatchesPaperFaithfulRun'
   asan_slow+='|Sweep\.BalancedSurfaceIsSymmetricInVolumeFraction'
-  asan_slow+='|cli\.checkpoint_resume|cli\.report_page)$'
+  asan_slow+='|cli\.checkpoint_resume_stages|cli\.checkpoint_resume_fast|cli\.sweep_resume_gallery'
+  asan_slow+='|cli\.report_page)$'
   ASAN_OPTIONS=abort_on_error=1 UBSAN_OPTIONS=abort_on_error=1:print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0" \
     ctest --test-dir "$asan_build" --output-on-failure -j 2 --timeout 600 -L 'unit|cli' \

@@ -152,10 +152,12 @@ out = f"{work}/twice"
 p = subprocess.Popen([bin, "run", "--surface", "G", "--grid", "96", "--extrapolate",
                       "--checkpoint-every", "0.5", "--no-preview", "--no-report", "--quiet",
                       "--out", out])
-check(wait_for(lambda: os.path.exists(f"{out}/checkpoint.bin"), p), "no periodic checkpoint")
+temporary = lambda: glob.glob(f"{out}/checkpoint.bin.tmp.*")
+# A periodic checkpoint in place and none being written: then the signal's is the next.
+check(wait_for(lambda: os.path.exists(f"{out}/checkpoint.bin") and not temporary(), p),
+      "no periodic checkpoint")
 before = open(f"{out}/checkpoint.bin", "rb").read()
 p.send_signal(signal.SIGTERM)
-temporary = lambda: glob.glob(f"{out}/checkpoint.bin.tmp.*")
 check(wait_for(temporary, p), "the first signal's checkpoint was never being written")
 p.send_signal(signal.SIGTERM)
 t0 = time.time()
