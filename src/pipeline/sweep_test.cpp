@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 namespace cmcsurf {
 namespace {
@@ -34,6 +35,28 @@ TEST(Sweep, ParsesSurfaceLists) {
   EXPECT_THROW(parse_surface_list("P,Q"), std::invalid_argument);
   EXPECT_THROW(parse_surface_list("P,sphere"), std::invalid_argument);  // no volume fraction
   EXPECT_THROW(parse_surface_list("P,"), std::invalid_argument);
+}
+
+// A sweep read back from sweep.json gets the command line's checks.
+TEST(Sweep, ChecksASweepReadBack) {
+  SweepParams ok;
+  ok.surfaces = {"P", "expr:cos(x)+cos(y)+cos(z)"};
+  ok.fractions = {0.3, 0.5};
+  EXPECT_NO_THROW(check_sweep_params(ok));
+  auto refused = [&](const std::function<void(SweepParams&)>& edit) {
+    SweepParams p = ok;
+    edit(p);
+    EXPECT_THROW(check_sweep_params(p), std::invalid_argument);
+  };
+  refused([](SweepParams& p) { p.surfaces.clear(); });
+  refused([](SweepParams& p) { p.surfaces = {"sphere"}; });  // no nodal formula
+  refused([](SweepParams& p) { p.surfaces = {"nonesuch"}; });
+  refused([](SweepParams& p) { p.fractions.clear(); });
+  refused([](SweepParams& p) { p.fractions = {0.3, 1.5}; });
+  refused([](SweepParams& p) { p.fractions = {std::nan("")}; });
+  refused([](SweepParams& p) { p.fractions.assign(1001, 0.5); });
+  refused([](SweepParams& p) { p.run.epsilon = -1.0; });
+  refused([](SweepParams& p) { p.run.grid = 50; });
 }
 
 TEST(Sweep, MemberNames) {
