@@ -33,6 +33,7 @@ struct RunOptionStrings {
   CLI::Option* mg_rtol = nullptr;
   CLI::Option* coarse_levels = nullptr;
   CLI::Option* dt_max_factor = nullptr;
+  CLI::Option* settle_tol = nullptr;
   CLI::Option* extrapolate = nullptr;
 };
 // What --fast selects: kFastMgRtol, kFastDtMaxFactor, fast_coarse_levels (pipeline/run_options.h).

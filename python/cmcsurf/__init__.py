@@ -14,7 +14,8 @@ m 2^k (m in {1, 3, 5, 7}, N >= 8, the multigrid's grids) or when they hold NaN o
 
 Solves release the GIL (other Python threads keep running), Ctrl-C stops a solve within one
 time step with ``KeyboardInterrupt``, and ``progress`` is called with a dict per time step
-(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed``;
+(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed,
+volume_fraction``;
 in a sweep also ``member``, e.g. ``"G_0.30"``).
 """
 
@@ -37,10 +38,11 @@ __version__: str = _cmcsurf.version()
 Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
 # The solver options shared by run, relax and sweep, as keyword arguments. None: not given,
-# which for mg_rtol, coarse_levels, dt_max_factor and extrapolate lets fast=True choose.
+# which for mg_rtol, coarse_levels, dt_max_factor, extrapolate and settle_tol lets fast=True
+# choose.
 _SOLVER_OPTIONS = (
     "epsilon", "dt_factor", "stop", "tol", "max_steps", "smoother", "constrain", "volume_tol",
-    "mg_tol", "fast", "mg_rtol", "coarse_levels", "extrapolate", "dt_max_factor",
+    "mg_tol", "fast", "mg_rtol", "coarse_levels", "extrapolate", "dt_max_factor", "settle_tol",
     "max_vcycles", "pre_sweeps", "post_sweeps", "prerelax_steps", "prerelax_epsilon_factor",
     "bisection_tol", "bisection_max_it", "max_volume_corrections",
 )
@@ -82,6 +84,7 @@ def run(
     coarse_levels: Optional[int] = None,
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
+    settle_tol: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,
@@ -98,9 +101,10 @@ def run(
     Nodal surfaces (P, D, G, ..., ``expr:``) go through Section 4.4's steps 1-6 at
     ``volume_fraction`` and, with ``constrain="volume"``, the mass corrections that hold the
     sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
-    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, coarse_levels, extrapolate and
-    dt_max_factor where they are None). ``threads``: OpenMP threads for this call (0:
-    OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time step.
+    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, coarse_levels, extrapolate,
+    dt_max_factor and settle_tol where they are None). ``threads``: OpenMP threads for this
+    call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time
+    step.
 
     Returns a :class:`Result`: ``.phi`` (N, N, N) float64 (read-only), ``.report`` (the dict of
     report.json), ``.history`` (a dict of NumPy columns, history.csv's), ``.save(dir)``.
@@ -130,6 +134,7 @@ def relax(
     coarse_levels: Optional[int] = None,
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
+    settle_tol: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,
@@ -219,6 +224,7 @@ def sweep(
     coarse_levels: Optional[int] = None,
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
+    settle_tol: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,

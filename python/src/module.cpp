@@ -196,6 +196,7 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
     else if (key == "coarse_levels") { i(p.coarse_levels); c.coarse_levels_given = true; }
     else if (key == "extrapolate") { b(p.solver.extrapolate); c.extrapolate_given = true; }
     else if (key == "dt_max_factor") { d(p.dt_max_factor); c.dt_max_factor_given = true; }
+    else if (key == "settle_tol") { d(p.settle_tol); c.settle_tol_given = true; }
     else if (key == "max_vcycles") i(p.solver.max_vcycles);
     else if (key == "pre_sweeps") i(p.solver.fas.pre_sweeps);
     else if (key == "post_sweeps") i(p.solver.fas.post_sweeps);
@@ -252,6 +253,7 @@ py::dict step_dict(const StepRecord& r, const std::string& member) {
   d["vcycles"] = r.vcycles;
   d["residual"] = r.residual;
   d["elapsed"] = r.elapsed;
+  d["volume_fraction"] = r.volume_fraction;
   if (!member.empty()) d["member"] = member;
   return d;
 }
@@ -377,7 +379,7 @@ struct Result {
     const std::size_t n = h.size();
     py::array_t<long long> step(n), vcycles(n);
     py::array_t<double> time(n), dt(n), area(n), d_area(n), d_phi(n), energy(n), mass(n),
-        residual(n), elapsed(n);
+        residual(n), elapsed(n), volume_fraction(n);
     py::list stage;
     for (std::size_t s = 0; s < n; ++s) {
       step.mutable_at(s) = h[s].step;
@@ -391,6 +393,7 @@ struct Result {
       mass.mutable_at(s) = h[s].mass;
       residual.mutable_at(s) = h[s].residual;
       elapsed.mutable_at(s) = h[s].elapsed;
+      volume_fraction.mutable_at(s) = h[s].volume_fraction;
       stage.append(h[s].stage);
     }
     py::dict d;
@@ -406,6 +409,7 @@ struct Result {
     d["residual"] = residual;
     d["elapsed"] = elapsed;
     d["dt"] = dt;
+    d["volume_fraction"] = volume_fraction;
     history_cache = d;
     return d;
   }
@@ -705,7 +709,7 @@ constexpr const char* kResultHistoryDoc =
     R"(history.csv as a dict of NumPy columns, one row per time step.
 
 step, vcycles (int64); stage (str); time, dt, area, d_area, d_phi, energy, mass, residual,
-elapsed (float64).)";
+elapsed, volume_fraction (float64).)";
 
 constexpr const char* kResultSaveDoc =
     R"(save(dir, float32=False, preview=True, report=True) -> pathlib.Path

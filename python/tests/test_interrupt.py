@@ -84,7 +84,8 @@ def test_progress_gets_a_dict_per_step():
     assert [d["step"] for d in records] == list(h["step"])
     assert records[0]["stage"] == "prerelax" and records[-1]["area"] == h["area"][-1]
     assert set(records[0]) == {"step", "stage", "time", "dt", "area", "d_area", "d_phi",
-                               "energy", "mass", "vcycles", "residual", "elapsed"}
+                               "energy", "mass", "vcycles", "residual", "elapsed",
+                               "volume_fraction"}
 
 
 def test_an_exception_in_progress_stops_the_run_and_propagates():

@@ -26,7 +26,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Measures, area, area_error, mean_curvature,
                                    total_mean_curvature_diffuse, mean_curvature_mu,
                                    volume_fraction, volume_fraction_cells, mass, energy, sharp)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StepRecord, step, stage, time, dt, area, d_area, d_phi, energy,
-                                   mass, vcycles, residual, elapsed)
+                                   mass, volume_fraction, vcycles, residual, elapsed)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BisectionResult, beta, v_ave, iterations)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VolumeIterate, mass, volume_fraction, steps, relaxed)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RunCursor, grid, stage, stage_steps, dt, area, volume,

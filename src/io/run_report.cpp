@@ -44,6 +44,7 @@ nlohmann::json params_json(const RunParams& p) {
       {"mg_rtol", p.solver.rtol},
       {"coarse_levels", p.coarse_levels},
       {"dt_max_factor", p.dt_max_factor},
+      {"settle_tol", p.settle_tol},
       {"extrapolate", p.solver.extrapolate},
       {"fast", p.fast},
       {"max_vcycles", p.solver.max_vcycles},
@@ -97,6 +98,7 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   take("mg_rtol", p.solver.rtol);
   take("coarse_levels", p.coarse_levels);
   take("dt_max_factor", p.dt_max_factor);
+  take("settle_tol", p.settle_tol, true);  // absent before 2026-11-25: off
   take("extrapolate", p.solver.extrapolate);
   take("fast", p.fast);
   take("max_vcycles", p.solver.max_vcycles);
@@ -230,12 +232,13 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
 }
 
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
-  std::string out = "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt\n";
+  std::string out =
+      "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt,volume_fraction\n";
   for (const StepRecord& r : history)
     out += fmt::format(
-        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f},{:.17g}\n", r.step,
-        r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass, r.vcycles, r.residual,
-        r.elapsed, r.dt);
+        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f},{:.17g},{:.17g}\n",
+        r.step, r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass, r.vcycles,
+        r.residual, r.elapsed, r.dt, r.volume_fraction);
   write_file_atomic(path, out);
 }
 

@@ -321,6 +321,7 @@ class Evolution {
     r.d_phi = l2_diff(phi, previous_);
     r.energy = energy(phi, eps);
     r.mass = mass(phi);
+    r.volume_fraction = sharp_volume_fraction(phi);
     r.vcycles = s.vcycles;
     r.residual = s.residual;
     r.elapsed = seconds_since(t0_);
@@ -366,14 +367,17 @@ class Evolution {
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
       if (volume_rate > 0.0) {
-        result_.phi.exchange_halo();
-        const double v_new = sharp_volume_fraction(result_.phi);
-        met = met && std::abs(v_new - v) <= volume_rate;
-        v = v_new;
+        met = met && std::abs(r.volume_fraction - v) <= volume_rate;
+        v = r.volume_fraction;
       }
       if (met) {
         result_.converged = true;
         result_.stop_reason = params_.stop == StopRule::kArea ? "area" : "phi";
+        break;
+      }
+      if (params_.settle_tol > 0.0 && settled(taken)) {
+        result_.converged = true;
+        result_.stop_reason = "settled";
         break;
       }
     }
@@ -383,6 +387,23 @@ class Evolution {
   }
 
  private:
+  // Whether the diffuse area and the sharp volume fraction of the last `taken` steps (this
+  // relaxation's) have settled within params.settle_tol (the history holds them, so that a
+  // resumed run decides alike).
+  bool settled(int taken) const {
+    constexpr int kSeries = 4;
+    if (taken < kSeries) return false;
+    double areas[kSeries], volumes[kSeries];
+    const auto& h = result_.history;
+    for (int i = 0; i < kSeries; ++i) {
+      const StepRecord& r = h[h.size() - kSeries + i];
+      areas[i] = r.area;
+      volumes[i] = r.volume_fraction;
+    }
+    return series_settled(areas, params_.settle_tol * std::abs(areas[kSeries - 1])) &&
+           series_settled(volumes, params_.settle_tol);
+  }
+
   // Records the position before a step, and asks the context whether to checkpoint or stop
   // there: a checkpoint lies between two steps, where the loops can pick it up (restore).
   void mark(std::string_view stage, int stage_steps, double dt, double a, double v) {

@@ -56,6 +56,12 @@ struct RunParams {
   // a step that hits --max-vcycles halves it. The convex splitting is stable for any dt and
   // its fixed points do not depend on dt, so only the path to the equilibrium changes.
   double dt_max_factor = 0.0;
+  // Settling (the fast mode's finishing rule, off when 0): a relaxation at epsilon also ends
+  // when its diffuse area and its sharp volume fraction have settled: their last two changes
+  // shrank and the geometric tail they predict is at most settle_tol (relative to the area;
+  // absolute for the volume fraction; pipeline/continuation.h). A drift that does not shrink,
+  // such as a slow pinch-off, never settles; the paper's stop rule still applies beside it.
+  double settle_tol = 0.0;
   bool fast = false;  // the user asked for `--fast` (which chose the options above)
 
   double h() const { return 1.0 / grid; }
@@ -99,6 +105,7 @@ struct StepRecord {
   double d_phi = 0.0;     // ||phi^{n+1} - phi^n||
   double energy = 0.0;
   double mass = 0.0;
+  double volume_fraction = 0.0;  // sharp (measure/sharp_volume.h), after the step
   int vcycles = 0;
   double residual = 0.0;
   double elapsed = 0.0;   // wall seconds since the run started

@@ -255,7 +255,26 @@ TEST(Pipeline, ExtrapolatedGuessKeepsTheResult) {
   EXPECT_LT(extrapolated.vcycles, plain.vcycles);
 }
 
-// Everything --fast combines (continuation, relative V-cycle stop, extrapolation, adaptive dt)
+// Settling ends a relaxation once its area and volume fraction have stopped moving, before
+// the paper's |dA| <= tol: the same surface (the sharp area to 1e-5 here), fewer steps.
+TEST(Pipeline, SettlingEndsTheRelaxationOnTheSameSurface) {
+  RunParams p = gyroid_32(Constraint::kMass);
+  p.dt_max_factor = 8.0;
+  const RunResult paper = run_cmc(p);
+  p.settle_tol = 1e-5;
+  const RunResult settled = run_cmc(p);
+  EXPECT_EQ(paper.stop_reason, "area");
+  EXPECT_EQ(settled.stop_reason, "settled");
+  EXPECT_TRUE(settled.converged);
+  EXPECT_LT(settled.steps, paper.steps);
+  EXPECT_NEAR(settled.final.area / paper.final.area, 1.0, 1e-5);
+  EXPECT_NEAR(settled.final.volume_fraction, paper.final.volume_fraction, 1e-5);
+  // The history's volume fractions are the sharp ones the rule watched.
+  EXPECT_EQ(settled.history.back().volume_fraction, settled.final.volume_fraction);
+}
+
+// Everything --fast combines (continuation, relative V-cycle stop, extrapolation, adaptive dt,
+// settling)
 // against the paper-faithful run: issue 5 asks for the area within 0.1 % and the same volume
 // fraction and family member (same mean curvature to 1 %).
 TEST(Pipeline, FastCombinationMatchesPaperFaithfulRun) {
@@ -265,6 +284,7 @@ TEST(Pipeline, FastCombinationMatchesPaperFaithfulRun) {
   p.solver.rtol = 1e-2;
   p.solver.extrapolate = true;
   p.dt_max_factor = 8.0;
+  p.settle_tol = 1e-5;
   const RunResult fast = run_cmc(p);
   EXPECT_NEAR(fast.final.area / faithful.final.area, 1.0, 1e-3);
   EXPECT_NEAR(fast.final.volume_fraction, 0.35, p.volume_tol);

@@ -35,6 +35,7 @@ RunParams fast_gyroid() {  // coarse-to-fine, extrapolation, adaptive dt, relati
   p.solver.rtol = 1e-2;
   p.solver.extrapolate = true;
   p.dt_max_factor = 8.0;
+  p.settle_tol = 1e-5;
   p.fast = true;
   return p;
 }
