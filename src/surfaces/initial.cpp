@@ -23,25 +23,33 @@ constexpr std::string_view kExprPrefix = "expr:";
 // Cell centre x_i = (i + 1/2) h; a division so that centres on a dyadic value are exact.
 double cell_centre(int i, int n) { return (i + 0.5) / n; }
 
-// Recurring Fourier terms of the nodal functions below (X = 2 pi x, ...).
-double sum_cos(double X, double Y, double Z) { return std::cos(X) + std::cos(Y) + std::cos(Z); }
-double sum_cos2(double X, double Y, double Z) {
-  return std::cos(2 * X) + std::cos(2 * Y) + std::cos(2 * Z);
-}
-double sum_cos_cos(double X, double Y, double Z) {
-  return std::cos(X) * std::cos(Y) + std::cos(Y) * std::cos(Z) + std::cos(Z) * std::cos(X);
-}
-double sum_cos2_cos2(double X, double Y, double Z) {
-  return std::cos(2 * X) * std::cos(2 * Y) + std::cos(2 * Y) * std::cos(2 * Z) +
-         std::cos(2 * Z) * std::cos(2 * X);
-}
-// sin 2X sin Z cos Y + sin 2Y sin X cos Z + sin 2Z sin Y cos X: the {211} terms of Ia-3d.
-double sum_sin2_sin_cos(double X, double Y, double Z) {
-  return std::sin(2 * X) * std::sin(Z) * std::cos(Y) + std::sin(2 * Y) * std::sin(X) * std::cos(Z) +
-         std::sin(2 * Z) * std::sin(Y) * std::cos(X);
+// cos and sin of X and of 2X for one coordinate X = 2 pi x. Every built-in nodal function is a
+// polynomial in these, so a grid takes them once per axis index instead of once per cell (the
+// values, and so F's bits, are those of std::cos(X), std::cos(2 * X), ... per cell).
+struct AxisTrig {
+  double c = 1.0, s = 0.0, c2 = 1.0, s2 = 0.0;
+};
+AxisTrig axis_trig(double X) {
+  return {std::cos(X), std::sin(X), std::cos(2 * X), std::sin(2 * X)};
 }
 
-using NodalFn = double (*)(double X, double Y, double Z);
+// Recurring Fourier terms of the nodal functions below.
+double sum_cos(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) { return x.c + y.c + z.c; }
+double sum_cos2(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+  return x.c2 + y.c2 + z.c2;
+}
+double sum_cos_cos(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+  return x.c * y.c + y.c * z.c + z.c * x.c;
+}
+double sum_cos2_cos2(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+  return x.c2 * y.c2 + y.c2 * z.c2 + z.c2 * x.c2;
+}
+// sin 2X sin Z cos Y + sin 2Y sin X cos Z + sin 2Z sin Y cos X: the {211} terms of Ia-3d.
+double sum_sin2_sin_cos(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+  return x.s2 * z.s * y.c + y.s2 * x.s * z.c + z.s2 * y.s * x.c;
+}
+
+using NodalFn = double (*)(const AxisTrig& x, const AxisTrig& y, const AxisTrig& z);
 
 struct NodalSurface {
   const char* name;
@@ -50,89 +58,89 @@ struct NodalSurface {
   NodalFn F;      // phase 1 = {F > 0}; phi^{step 1} = F + 1/2
 };
 
-// The nodal functions F, one place each. Arguments are X = 2 pi x, Y = 2 pi y, Z = 2 pi z.
+// The nodal functions F, one place each, of X = 2 pi x, Y = 2 pi y, Z = 2 pi z (their AxisTrig).
 // "balanced": some isometry of the cell maps F to -F (both phases congruent).
 const NodalSurface kNodal[] = {
     {"P",
      "Schwarz P, Eq. (7): cos X + cos Y + cos Z (Schnering & Nesper 1991)",
      true,
-     [](double X, double Y, double Z) { return sum_cos(X, Y, Z); }},
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) { return sum_cos(x, y, z); }},
     {"D",
      "Schwarz D, Eq. (8): cos X cos Y cos Z - sin X sin Y sin Z (= the four-term "
      "Schnering & Nesper 1991 form up to a mirror, a shift by 1/8 and a factor)",
      true,
-     [](double X, double Y, double Z) {
-       return std::cos(X) * std::cos(Y) * std::cos(Z) - std::sin(X) * std::sin(Y) * std::sin(Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return x.c * y.c * z.c - x.s * y.s * z.s;
      }},
     {"G",
      "Schoen gyroid, Eq. (9): sin X cos Y + sin Z cos X + sin Y cos Z (Schnering & Nesper 1991)",
      true,
-     [](double X, double Y, double Z) {
-       return std::sin(X) * std::cos(Y) + std::sin(Z) * std::cos(X) + std::sin(Y) * std::cos(Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return x.s * y.c + z.s * x.c + y.s * z.c;
      }},
     {"IWP",
      "Schoen I-WP: 2 (cos X cos Y + cos Y cos Z + cos Z cos X) - (cos 2X + cos 2Y + cos 2Z) "
      "(Schnering & Nesper 1991)",
      false,
-     [](double X, double Y, double Z) { return 2 * sum_cos_cos(X, Y, Z) - sum_cos2(X, Y, Z); }},
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) { return 2 * sum_cos_cos(x, y, z) - sum_cos2(x, y, z); }},
     {"Neovius",
      "Neovius C(P): 3 (cos X + cos Y + cos Z) + 4 cos X cos Y cos Z (Schnering & Nesper 1991)",
      true,
-     [](double X, double Y, double Z) {
-       return 3 * sum_cos(X, Y, Z) + 4 * std::cos(X) * std::cos(Y) * std::cos(Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 3 * sum_cos(x, y, z) + 4 * x.c * y.c * z.c;
      }},
     {"FRD",
      "Schoen F-RD: 4 cos X cos Y cos Z - (cos 2X cos 2Y + cos 2Y cos 2Z + cos 2Z cos 2X) "
      "(Schnering & Nesper 1991)",
      false,
-     [](double X, double Y, double Z) {
-       return 4 * std::cos(X) * std::cos(Y) * std::cos(Z) - sum_cos2_cos2(X, Y, Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 4 * x.c * y.c * z.c - sum_cos2_cos2(x, y, z);
      }},
     {"Lidinoid",
      "Lidinoid: (sin 2X sin Z cos Y + sin 2Y sin X cos Z + sin 2Z sin Y cos X)/2 - (cos 2X cos 2Y "
      "+ cos 2Y cos 2Z + cos 2Z cos 2X)/2 + 0.15 (level surface of Wohlgemuth et al. 2001, halved)",
      false,
-     [](double X, double Y, double Z) {
-       return 0.5 * sum_sin2_sin_cos(X, Y, Z) - 0.5 * sum_cos2_cos2(X, Y, Z) + 0.15;
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 0.5 * sum_sin2_sin_cos(x, y, z) - 0.5 * sum_cos2_cos2(x, y, z) + 0.15;
      }},
     {"SplitP",
      "Split P: 1.1 (sin 2X sin Z cos Y + sin 2Y sin X cos Z + sin 2Z sin Y cos X) - 0.2 (cos 2X "
      "cos 2Y + cos 2Y cos 2Z + cos 2Z cos 2X) - 0.4 (cos 2X + cos 2Y + cos 2Z) (Wohlgemuth et al. "
      "2001)",
      false,
-     [](double X, double Y, double Z) {
-       return 1.1 * sum_sin2_sin_cos(X, Y, Z) - 0.2 * sum_cos2_cos2(X, Y, Z) -
-              0.4 * sum_cos2(X, Y, Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 1.1 * sum_sin2_sin_cos(x, y, z) - 0.2 * sum_cos2_cos2(x, y, z) -
+              0.4 * sum_cos2(x, y, z);
      }},
     {"FKS",
      "Fischer-Koch S: cos 2X sin Y cos Z + cos 2Y sin Z cos X + cos 2Z sin X cos Y "
      "(Wohlgemuth et al. 2001)",
      true,
-     [](double X, double Y, double Z) {
-       return std::cos(2 * X) * std::sin(Y) * std::cos(Z) +
-              std::cos(2 * Y) * std::sin(Z) * std::cos(X) +
-              std::cos(2 * Z) * std::sin(X) * std::cos(Y);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return x.c2 * y.s * z.c +
+              y.c2 * z.s * x.c +
+              z.c2 * x.s * y.c;
      }},
     {"DoubleP",
      "double P (two parallel P sheets): 0.5 (cos X cos Y + cos Y cos Z + cos Z cos X) + 0.2 "
      "(cos 2X + cos 2Y + cos 2Z) (Wohlgemuth et al. 2001)",
      false,
-     [](double X, double Y, double Z) {
-       return 0.5 * sum_cos_cos(X, Y, Z) + 0.2 * sum_cos2(X, Y, Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 0.5 * sum_cos_cos(x, y, z) + 0.2 * sum_cos2(x, y, z);
      }},
     {"DoubleD",
      "double D (two parallel D sheets): cos 2X cos 2Y + cos 2Y cos 2Z + cos 2Z cos 2X + sin 2X "
      "sin 2Y sin 2Z (Wohlgemuth et al. 2001)",
      false,
-     [](double X, double Y, double Z) {
-       return sum_cos2_cos2(X, Y, Z) + std::sin(2 * X) * std::sin(2 * Y) * std::sin(2 * Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return sum_cos2_cos2(x, y, z) + x.s2 * y.s2 * z.s2;
      }},
     {"DoubleG",
      "double gyroid (two parallel G sheets): 2.75 (sin 2X sin Z cos Y + sin 2Y sin X cos Z + sin "
      "2Z sin Y cos X) - (cos 2X cos 2Y + cos 2Y cos 2Z + cos 2Z cos 2X) (Wohlgemuth et al. 2001)",
      false,
-     [](double X, double Y, double Z) {
-       return 2.75 * sum_sin2_sin_cos(X, Y, Z) - sum_cos2_cos2(X, Y, Z);
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 2.75 * sum_sin2_sin_cos(x, y, z) - sum_cos2_cos2(x, y, z);
      }},
 };
 
@@ -276,7 +284,7 @@ void validate_surface(const std::string& name) {
 
 double nodal_value(const std::string& surface, double x, double y, double z) {
   if (const NodalSurface* s = find_nodal(surface))
-    return s->F(kTwoPi * x, kTwoPi * y, kTwoPi * z) + 0.5;
+    return s->F(axis_trig(kTwoPi * x), axis_trig(kTwoPi * y), axis_trig(kTwoPi * z)) + 0.5;
   if (is_expr(surface)) {
     // One parser per thread, rebuilt when the formula changes.
     thread_local std::string cached_surface;
@@ -307,13 +315,20 @@ Field make_initial_field(const InitialFieldParams& params, int n, int ghost,
   Field phi(n, ghost, decomposition);
 
   if (const NodalSurface* s = find_nodal(name)) {
-    // phi^{step 1} = F + 1/2 (Eqs. 7-9).
+    // phi^{step 1} = F + 1/2 (Eqs. 7-9), from the trigonometric values of each axis index.
+    std::vector<AxisTrig> trig(n);
+    for (int i = 0; i < n; ++i) trig[i] = axis_trig(kTwoPi * cell_centre(i, n));
     const NodalFn F = s->F;
-    fill_at_cell_centres(phi, [F] {
-      return [F](double x, double y, double z) {
-        return F(kTwoPi * x, kTwoPi * y, kTwoPi * z) + 0.5;
-      };
-    });
+    const auto& o = phi.offset();
+    const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
+        const AxisTrig& y = trig[o[1] + j];
+        const AxisTrig& z = trig[o[2] + k];
+        double* row = &phi(0, j, k);
+        for (int i = 0; i < nx; ++i) row[i] = F(trig[o[0] + i], y, z) + 0.5;
+      }
   } else if (is_expr(name)) {
     UserFormula check(name);  // report a bad formula before entering the parallel region
     fill_at_cell_centres(phi, [&name] {
