@@ -16,6 +16,7 @@
 #include "parallel/decomposition.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
 #include "pipeline/run_page.h"
@@ -221,20 +222,22 @@ int run(RunCommand& cmd, const CLI::App& app) {
     whole.exchange_halo();  // a const Field& argument arrives with valid ghosts
   }
   const Field& field = world->distributed() ? whole : r.phi;
-  const CmcQuality quality = measure_cmc_quality(field, p);  // docs/families.md
-  std::optional<RunPreview> preview;  // docs/report.md
-  if (!cmd.pages.no_preview) preview = make_run_preview(field, p, r, quality);
+  // Quality (docs/families.md), preview.png and report.html's meshes (docs/report.md).
+  RunOutputs outputs = run_outputs(field, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+  const CmcQuality& quality = outputs.quality;
+  std::optional<RunPreview>& preview = outputs.preview;
   nlohmann::json extra = decomposition_json(*world);  // io/run_folder.h
   extra["checkpoints_written"] = sink.written();
   extra["checkpoint_seconds"] = sink.seconds();
   if (resume) extra["resumed_from_step"] = resume->step;
   if (preview) extra["preview_seconds"] = preview->seconds;
+  if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
   const nlohmann::json report = write_run_folder(
       dir, p, r, field, quality, threads, cmd.float32, extra, [&] {
         if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
         if (preview) write_png(dir / "preview.png", preview->image);
       });
-  if (!cmd.pages.no_report) write_run_page(dir);
+  if (outputs.page) write_run_page(dir, &*outputs.page);
   std::filesystem::remove(dir / kCheckpointFileName);  // the run is complete
   if (!cmd.quiet) print_summary(p, r, quality, report, dir);
   print_warnings(p, r);

@@ -17,6 +17,7 @@
 #include "io/vti.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
 #include "pipeline/run_page.h"
@@ -247,20 +248,23 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
                                m.alpha, m.started_from);
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
-    const CmcQuality quality = measure_cmc_quality(r.phi, m.params);
-    std::optional<RunPreview> preview;  // docs/report.md
-    if (!cmd.pages.no_preview) preview = make_run_preview(r.phi, m.params, r, quality);
+    // Quality, preview.png and report.html's meshes (docs/report.md).
+    RunOutputs outputs =
+        run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+    const CmcQuality& quality = outputs.quality;
+    std::optional<RunPreview>& preview = outputs.preview;
     nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
                             {"member", m.name},
                             {"started_from", m.started_from}};
     if (preview) extra["preview_seconds"] = preview->seconds;
+    if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
     reports.push_back(write_run_folder(dir / m.name, m.params, r, r.phi, quality, threads,
                                        cmd.float32, extra, [&] {
                                          if (preview)
                                            write_png(dir / m.name / "preview.png", preview->image);
                                        }));
     fs::remove(dir / m.name / kCheckpointFileName);  // the member is complete
-    if (!cmd.pages.no_report) write_run_page(dir / m.name);
+    if (outputs.page) write_run_page(dir / m.name, &*outputs.page);
     if (preview)
       gallery.push_back({m.surface, m.name, m.alpha, r.final.mean_curvature,
                          std::move(preview->surfaces.relaxed)});

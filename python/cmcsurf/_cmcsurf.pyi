@@ -17,7 +17,8 @@ class Result:
     @property
     def report(self) -> Dict[str, Any]:
         """report.json of the run, as a dict: every key of the command line's report.json
-        except preview_seconds (the preview stage runs in save(), whose report.json has it)."""
+        except preview_seconds, page_seconds and write_seconds (the preview, the page's meshes
+        and the writes run in save(), whose report.json has them)."""
     @property
     def history(self) -> Dict[str, np.ndarray]:
         """history.csv's columns: step, stage, time, area, d_area, d_phi, energy, mass,

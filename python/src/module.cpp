@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -36,6 +37,7 @@
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
+#include "pipeline/run_outputs.h"
 #include "pipeline/run_page.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
@@ -361,7 +363,7 @@ struct Result {
   // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
   // the solve.
   void finish() {
-    quality = measure_cmc_quality(result.phi, params);
+    quality = run_quality(profile_inverse(result.phi), params, result);
     report = run_folder_report(params, result, quality, threads, extra);
   }
 
@@ -425,14 +427,25 @@ struct Result {
       py::gil_scoped_release release;
       std::optional<RunPreview> picture;
       nlohmann::json x = extra;
+      std::optional<Field> psi;
+      if (preview || page) psi = profile_inverse(result.phi);
       if (preview) {
-        picture = make_run_preview(result.phi, params, result, quality);
+        picture = make_run_preview(*psi, params, result, quality);
         x["preview_seconds"] = picture->seconds;
+      }
+      std::optional<PreviewSurfaces> page_surfaces;
+      if (page) {
+        const auto t0 = std::chrono::steady_clock::now();
+        page_surfaces = preview_surfaces(*psi, params.surface, quality.nodal_level,
+                                         result.final.mean_curvature, kPageCells,
+                                         quality.has_nodal);
+        x["page_seconds"] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       }
       write_run_folder(dir, params, result, result.phi, quality, threads, float32, x, [&] {
         if (picture) write_png(dir / "preview.png", picture->image);
       });
-      if (page) write_run_page(dir);
+      if (page) write_run_page(dir, &*page_surfaces);
     }
     return to_path(dir);
   }
@@ -701,7 +714,8 @@ Indexed [i, j, k] = the cell centred at ((i + 1/2) / N, (j + 1/2) / N, (k + 1/2)
 constexpr const char* kResultReportDoc = R"(report.json of the run, as a dict.
 
 Every key of the command line's report.json (same values, bit for bit at equal thread
-count), except preview_seconds: the preview stage runs in save(), whose report.json has it.
+count), except preview_seconds, page_seconds and write_seconds: the preview, the page's
+meshes and the writes run in save(), whose report.json has them.
 A sweep member's report adds member, started_from and volume_fraction_target, as the
 member's report.json in a `cmcsurf sweep` folder.)";
 

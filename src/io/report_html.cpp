@@ -107,6 +107,8 @@ const std::vector<NumberRow>& run_number_rows() {
       {"measure_seconds", "measures (s)", "{:.3g}", ""},
       {"quality_seconds", "quality stage (s)", "{:.3g}", ""},
       {"preview_seconds", "preview stage (s)", "{:.3g}", ""},
+      {"page_seconds", "report page's meshes (s)", "{:.3g}", ""},
+      {"write_seconds", "writing the files (s)", "{:.3g}", ""},
       {"version", "cmcsurf version", "", ""},
   };
   return rows;

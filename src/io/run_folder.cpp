@@ -1,5 +1,7 @@
 #include "io/run_folder.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 
 #include <string>
@@ -59,7 +61,8 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra,
                                 const std::function<void()>& extra_files) {
-  const nlohmann::json report = run_folder_report(p, r, quality, threads, extra);
+  nlohmann::json report = run_folder_report(p, r, quality, threads, extra);
+  const auto t0 = std::chrono::steady_clock::now();
   ensure_directory(dir);
   clear_run_outputs(dir);
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
@@ -74,6 +77,9 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
              {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
              {"version", CMCSURF_VERSION}});
   if (extra_files) extra_files();
+  // The files before report.json; report.json itself and a page written after it are not in it.
+  report["write_seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_json_atomic(dir / "report.json", report);
   return report;
 }

@@ -42,8 +42,10 @@ Measures measure_field_diffuse(Field& phi, double epsilon) {
   return m;
 }
 
-Measures measure_field(Field& phi, double epsilon) {
-  Measures m = measure_field_diffuse(phi, epsilon);
+namespace {
+
+// The sharp measures of phi (halo current) into m.
+void add_sharp_measures(Measures& m, const Field& phi) {
   const SharpMeasures s = sharp_measures(phi);
   m.area = s.area;
   m.area_error = s.area_error;
@@ -52,6 +54,13 @@ Measures measure_field(Field& phi, double epsilon) {
   m.mean_curvature_std = s.mean_curvature_std;
   m.total_mean_curvature = s.mean_curvature * s.area;
   m.sharp = true;
+}
+
+}  // namespace
+
+Measures measure_field(Field& phi, double epsilon) {
+  Measures m = measure_field_diffuse(phi, epsilon);
+  add_sharp_measures(m, phi);
   return m;
 }
 
@@ -510,7 +519,11 @@ namespace {
 // The sharp measures of the final field: once per run, after every stage.
 void measure_final(RunResult& r, const RunParams& params) {
   const auto t0 = Clock::now();
-  r.final = measure_field(r.phi, params.epsilon);
+  // The diffuse measures are the last relaxation's (Evolution::relax ends with them, on this
+  // field); the sharp ones are added.
+  r.phi.exchange_halo();
+  CMCSURF_DCHECK(r.final.mass == mass(r.phi) && r.final.energy == energy(r.phi, params.epsilon));
+  add_sharp_measures(r.final, r.phi);
   r.measure_seconds = seconds_since(t0);
 }
 

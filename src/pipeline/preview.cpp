@@ -12,14 +12,16 @@
 
 namespace cmcsurf {
 
-PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, double nodal_level,
+Field profile_inverse(const Field& phi) {
+  Field psi(phi.n(), 2);
+  tanh_profile_inverse(phi, psi);
+  return psi;
+}
+
+PreviewSurfaces preview_surfaces(const Field& psi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal) {
   PreviewSurfaces out;
-  {
-    Field psi(phi.n(), 2);
-    tanh_profile_inverse(phi, psi);
-    out.relaxed = draw_surface(psi, max_cells);
-  }
+  out.relaxed = draw_surface(psi, max_cells);
   double spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
   if (with_nodal && is_nodal_surface(surface)) {
     // F is a trigonometric polynomial: sampled on the drawing lattice itself its curvature is
@@ -27,7 +29,7 @@ PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, d
     InitialFieldParams init;
     init.surface = surface;
     NodalLevelSet nodal;
-    nodal.f = make_initial_field(init, phi.n() / draw_stride(phi.n(), max_cells), 2);
+    nodal.f = make_initial_field(init, psi.n() / draw_stride(psi.n(), max_cells), 2);
     nodal.level = nodal_level;
     out.nodal = draw_surface(nodal_level_function(nodal), max_cells);
     out.has_nodal = true;
@@ -52,12 +54,12 @@ PreviewLabels preview_labels(const std::string& surface, double alpha, double me
   return l;
 }
 
-RunPreview make_run_preview(const Field& phi, const RunParams& p, const RunResult& r,
+RunPreview make_run_preview(const Field& psi, const RunParams& p, const RunResult& r,
                             const CmcQuality& q) {
   const auto t0 = std::chrono::steady_clock::now();
   RunPreview out;
   const double h = r.final.mean_curvature;
-  out.surfaces = preview_surfaces(phi, p.surface, q.nodal_level, h, kPreviewCells, q.has_nodal);
+  out.surfaces = preview_surfaces(psi, p.surface, q.nodal_level, h, kPreviewCells, q.has_nodal);
   const double alpha = is_nodal_surface(p.surface) ? p.volume_fraction : r.final.volume_fraction;
   const PreviewLabels labels = preview_labels(p.surface, alpha, h, p.grid, p.epsilon,
                                               q.relaxed.std, q.nodal.std, out.surfaces.has_nodal);

@@ -29,11 +29,14 @@ struct PreviewSurfaces {
   ColorScale scale;
 };
 
-// phi: the whole final field (any ghost width). nodal_level: c of the nodal surface
-// {F + 1/2 = c} (CmcQuality::nodal_level), used when `surface` is nodal. The relaxed surface's H
-// comes from phi's full resolution; the nodal formula is sampled on the drawing lattice.
-PreviewSurfaces preview_surfaces(const Field& phi, const std::string& surface, double nodal_level,
+// psi: tanh_profile_inverse of the whole final field (measure/sharp_surface.h; ghost 2, halo
+// current). nodal_level: c of the nodal surface {F + 1/2 = c} (CmcQuality::nodal_level), used
+// when `surface` is nodal. The relaxed surface's H comes from psi's full resolution; the nodal
+// formula is sampled on the drawing lattice.
+PreviewSurfaces preview_surfaces(const Field& psi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal = true);
+// psi = atanh(2 phi - 1) of a whole field, ghost 2, for preview_surfaces.
+Field profile_inverse(const Field& phi);
 
 struct RunPreview {
   PreviewSurfaces surfaces;
@@ -42,7 +45,8 @@ struct RunPreview {
 };
 
 // The stage: surfaces at kPreviewCells and the picture with its title (surface, alpha, H).
-RunPreview make_run_preview(const Field& phi, const RunParams& p, const RunResult& r,
+// psi: profile_inverse of the final field.
+RunPreview make_run_preview(const Field& psi, const RunParams& p, const RunResult& r,
                             const CmcQuality& q);
 
 // Title and labels of preview.png from the report's values.

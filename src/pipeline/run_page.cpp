@@ -87,12 +87,13 @@ nlohmann::json read_csv_columns(const fs::path& path) {
   return columns;
 }
 
-Field read_phi(const fs::path& dir) {
+// psi = atanh(2 phi - 1) of a folder's field.vti, for preview_surfaces.
+Field read_psi(const fs::path& dir) {
   VtiReadOptions options;
   options.ghost = 2;
   options.only = "phi";
   VtiData data = read_vti(dir / "field.vti", options);
-  return std::move(data.arrays.at("phi"));
+  return profile_inverse(data.arrays.at("phi"));
 }
 
 double number_or(const nlohmann::json& j, const char* key, double fallback) {
@@ -109,7 +110,7 @@ double seconds_since(Clock::time_point t0) {
 
 }  // namespace
 
-double write_run_page(const fs::path& dir) {
+double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces) {
   const auto t0 = Clock::now();
   const fs::path report_path = dir / "report.json";
   if (!fs::exists(report_path))
@@ -118,12 +119,13 @@ double write_run_page(const fs::path& dir) {
   const nlohmann::json report = read_json_file(report_path);
   const nlohmann::json history = read_csv_columns(dir / "history.csv");
   const nlohmann::json histogram = read_csv_columns(dir / "curvature_histogram.csv");
-  const Field phi = read_phi(dir);
   const std::string surface = report.value("surface", std::string("?"));
   const double h = number_or(report, "mean_curvature", 0.0);
   const bool nodal = report.contains("nodal_level") && report["nodal_level"].is_number();
-  const PreviewSurfaces s = preview_surfaces(phi, surface, number_or(report, "nodal_level", 0.0),
-                                             h, kPageCells, nodal);
+  const PreviewSurfaces s =
+      surfaces ? *surfaces
+               : preview_surfaces(read_psi(dir), surface, number_or(report, "nodal_level", 0.0), h,
+                                  kPageCells, nodal);
   const double alpha = number_or(report, "volume_fraction_target",
                                  number_or(report, "volume_fraction", 0.0));
 
@@ -179,7 +181,7 @@ double write_sweep_page(const fs::path& dir) {
       const nlohmann::json report = read_json_file(member / "report.json");
       const double h = number_or(report, "mean_curvature", 0.0);
       const PreviewSurfaces s =
-          preview_surfaces(read_phi(member), surfaces[si], 0.0, h, kSweepMemberCells, false);
+          preview_surfaces(read_psi(member), surfaces[si], 0.0, h, kSweepMemberCells, false);
       reach = std::max(reach, std::abs(h) + curvature_spread(s.relaxed, h, 0.95));
       members.push_back({{"name", name},
                          {"surface", surfaces[si]},
@@ -261,7 +263,7 @@ GalleryMember gallery_member_from_folder(const fs::path& member_dir, const std::
                                          const std::string& name, double alpha) {
   const nlohmann::json report = read_json_file(member_dir / "report.json");
   const double h = number_or(report, "mean_curvature", 0.0);
-  PreviewSurfaces s = preview_surfaces(read_phi(member_dir), surface, 0.0, h, kPreviewCells, false);
+  PreviewSurfaces s = preview_surfaces(read_psi(member_dir), surface, 0.0, h, kPreviewCells, false);
   return {surface, name, alpha, h, std::move(s.relaxed)};
 }
 

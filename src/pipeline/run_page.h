@@ -9,13 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/preview.h"
 #include "render/draw_surface.h"
 
 namespace cmcsurf {
 
 // Writes dir/report.html for a run folder; returns its wall time in seconds. Throws
-// std::runtime_error naming the file that is missing or unreadable.
-double write_run_page(const std::filesystem::path& dir);
+// std::runtime_error naming the file that is missing or unreadable. `surfaces`: the page's
+// meshes (kPageCells) when the caller computed them (run_outputs); otherwise they are drawn
+// from the folder's field.vti.
+double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* surfaces = nullptr);
 // Writes dir/report.html for a sweep folder (sweep.json beside the member folders).
 double write_sweep_page(const std::filesystem::path& dir);
 

@@ -169,16 +169,25 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
   if (!relaxed.whole())
     throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
   const auto t0 = std::chrono::steady_clock::now();
+  Field psi = Field::like(relaxed, 2);
+  tanh_profile_inverse(relaxed, psi);
+  CmcQuality q = measure_cmc_quality_psi(
+      psi, is_nodal_surface(params.surface) ? sharp_volume_fraction(relaxed) : 0.0, params);
+  q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return q;
+}
+
+CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
+                                   const RunParams& params) {
+  if (!psi.whole())
+    throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
+  const auto t0 = std::chrono::steady_clock::now();
   CmcQuality q;
   std::vector<CurvatureSample> relaxed_samples;
-  {
-    Field psi = Field::like(relaxed, 2);
-    tanh_profile_inverse(relaxed, psi);
-    level_set_surface(psi, &relaxed_samples);
-  }
+  level_set_surface(psi, &relaxed_samples);
   if (is_nodal_surface(params.surface)) {
     // The nodal surface with the relaxed surface's sharp volume fraction.
-    const double v = sharp_volume_fraction(relaxed);
+    const double v = volume_fraction;
     const NodalLevelSet nodal = nodal_level_set(
         params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid);
     std::vector<CurvatureSample> nodal_samples;

@@ -58,6 +58,10 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
 // same of the nodal surface {F = c} at the final field's sharp volume fraction, plus Appendix B's
 // area and mean curvature of that nodal surface's tanh profile at epsilon. Whole grid only.
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
+// The same from psi = tanh_profile_inverse(relaxed) and the relaxed field's sharp volume
+// fraction, when the caller has them (the stages after a run share one psi).
+CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
+                                   const RunParams& params);
 
 // How a member starts when a sweep resumes (sweep --resume): from scratch, from its own
 // checkpoint, or not at all, its folder holding it complete; `field` is then its final phi,

@@ -1,0 +1,42 @@
+#include "pipeline/run_outputs.h"
+
+#include <chrono>
+
+#include "pipeline/sweep.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r) {
+  // The final sharp volume fraction (measure_field's) is the relaxed field's own.
+  return measure_cmc_quality_psi(psi, r.final.volume_fraction, p);
+}
+
+RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r, bool preview,
+                       bool page) {
+  RunOutputs out;
+  const auto t0 = Clock::now();
+  const Field psi = profile_inverse(phi);
+  out.quality = run_quality(psi, p, r);
+  out.quality.seconds = seconds_since(t0);
+  if (preview) out.preview = make_run_preview(psi, p, r, out.quality);
+  if (page) {
+    const auto t1 = Clock::now();
+    out.page = preview_surfaces(psi, p.surface, out.quality.nodal_level, r.final.mean_curvature,
+                                kPageCells, out.quality.has_nodal);
+    out.page_seconds = seconds_since(t1);
+  }
+  return out;
+}
+
+}  // namespace cmcsurf

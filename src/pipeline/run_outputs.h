@@ -1,0 +1,30 @@
+// The stages after a solve that the run folder shows (docs/performance.md, "The whole
+// command"): the CMC quality comparison, preview.png's picture and report.html's meshes, all
+// from one psi = atanh(2 phi - 1) of the final field. `cmcsurf run`, `sweep` and Python's
+// Result.save() call this, then write; each stage's wall time goes into report.json.
+#pragma once
+
+#include <optional>
+
+#include "measure/quality.h"
+#include "pipeline/cmc.h"
+#include "pipeline/preview.h"
+
+namespace cmcsurf {
+
+struct RunOutputs {
+  CmcQuality quality;                   // quality_seconds (psi included)
+  std::optional<RunPreview> preview;    // preview_seconds
+  std::optional<PreviewSurfaces> page;  // report.html's meshes at kPageCells: page_seconds
+  double page_seconds = 0.0;
+};
+
+// phi: the whole final field of r (r.phi, or its gather under MPI). The quality stage always
+// runs; the preview and the page's meshes when asked for.
+RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r, bool preview,
+                       bool page);
+// The quality stage alone, from a given psi (Python computes it with the run, the pictures
+// when it saves).
+CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r);
+
+}  // namespace cmcsurf
