@@ -74,6 +74,10 @@ class ChStepper {
     history_valid_ = false;
   }
   FasSolver& solver() { return solver_; }
+  // With extrapolation, the stepper keeps phi^n through a step: after step() this is the phi it
+  // started from (interior), so a caller need not copy it for ||phi^{n+1} - phi^n||. Null
+  // without extrapolation.
+  const Field* phi_before_step() const { return options_.extrapolate ? &prev_phi_ : nullptr; }
   // Moves the state out (no copy; the stepper is unusable until restore_state) ...
   ChStepperState take_state();
   // ... and back, or from a checkpoint (its fields' interiors are copied; any ghost width).

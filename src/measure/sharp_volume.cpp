@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 #include "grid/check.h"
 #include "grid/kuhn.h"
@@ -116,10 +117,72 @@ void curvature_corrected(const Field& phi, Field& psi) {
   psi.exchange_halo();
 }
 
+namespace {
+
+// psi of curvature_corrected at one cell (p: phi at the cell, ghosts current).
+inline double corrected_at(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz) {
+  const std::ptrdiff_t sd = 1 + sy + sz;
+  const double c = p[0];
+  const double lap = neighbour_sum(p, sy, sz) - 6 * c;  // h^2 Lap_d
+  const double diag = p[sd] + p[-sd] - 2 * c;
+  return c - (lap + diag) / 24.0;
+}
+
+}  // namespace
+
+// linear_volume_fraction(curvature_corrected(phi)) without the N^3 field psi: each thread keeps
+// psi on the two planes of cells its dual cells span, (nx + 1) x (ny + 1) values each, the last
+// row and column (and the top plane of the block) from phi's ghosts, which hold the neighbours'
+// (or the periodic wrap's) values, so psi there equals the exchanged halo's. Same values, same
+// per-thread order of the sums as the two passes it replaces; 8 bytes per cell less at the peak
+// of a run, which calls it after every step.
 double sharp_volume_fraction(const Field& phi) {
-  Field psi = Field::like(phi, 1);
-  curvature_corrected(phi, psi);
-  return linear_volume_fraction(psi);
+  require_ghost(phi, 2, "sharp_volume_fraction");
+  CMCSURF_DCHECK(halo_is_current(phi));
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const std::size_t plane = std::size_t(nx + 1) * (ny + 1);
+  double sixths = 0.0;  // sum of tetrahedron fractions: 6 per dual cell
+#pragma omp parallel reduction(+ : sixths)
+  {
+    std::vector<double> lower(plane), upper(plane);
+    auto fill = [&](std::vector<double>& q, int k) {
+      for (int j = 0; j <= ny; ++j) {
+        const double* p = &phi(0, j, k);
+        double* row = &q[std::size_t(j) * (nx + 1)];
+        for (int i = 0; i <= nx; ++i) row[i] = corrected_at(p + i, sy, sz);
+      }
+    };
+    int filled = -2;  // the plane `upper` holds
+#pragma omp for schedule(static)
+    for (int k = 0; k < nz; ++k) {
+      if (filled == k) {
+        std::swap(lower, upper);
+      } else {
+        fill(lower, k);
+      }
+      fill(upper, k + 1);
+      filled = k + 1;
+      const std::ptrdiff_t w = nx + 1;
+      const std::ptrdiff_t off[8] = {0, 1, w, w + 1, 0, 1, w, w + 1};
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const std::ptrdiff_t at = std::ptrdiff_t(j) * w + i;
+          double v[8];
+          for (int c = 0; c < 8; ++c) v[c] = (c < 4 ? lower : upper)[at + off[c]];
+          double lo = v[0], hi = v[0];
+          for (int c = 1; c < 8; ++c) {
+            lo = std::min(lo, v[c]);
+            hi = std::max(hi, v[c]);
+          }
+          if (lo > 0.5)
+            sixths += 6.0;
+          else if (hi > 0.5)
+            sixths += cube_sixfold_fraction(v);
+        }
+    }
+  }
+  return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
 }
 
 double sharp_volume_fraction_ref(const Field& phi) {
