@@ -7,8 +7,34 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
+
+#include <sys/mman.h>
 
 namespace cmcsurf {
+
+namespace {
+constexpr std::size_t kMappedBytes = std::size_t(1) << 20;
+}  // namespace
+
+void* allocate_zeroed(std::size_t bytes) {
+  if (bytes >= kMappedBytes) {
+    void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    return p;
+  }
+  void* p = ::operator new(bytes, std::align_val_t(64));
+  std::memset(p, 0, bytes);
+  return p;
+}
+
+void release_zeroed(void* p, std::size_t bytes) {
+  if (p == nullptr) return;
+  if (bytes >= kMappedBytes)
+    munmap(p, bytes);
+  else
+    ::operator delete(p, std::align_val_t(64));
+}
 
 Field::Field(int n, int ghost) {
   Block b;
@@ -43,7 +69,7 @@ void Field::allocate(const Block& b, int ghost, std::shared_ptr<const Decomposit
                        pz = size_[2] + 2 * ghost;
   sy_ = px;
   sz_ = px * py;
-  data_.assign(std::size_t(px * py * pz), 0.0);
+  data_.resize(std::size_t(px * py * pz));  // zero: AlignedAllocator's memory
   plan_ = d ? make_halo_plan(size_, ghost, std::move(d)) : make_periodic_halo_plan(n_, ghost);
 }
 
