@@ -119,12 +119,18 @@ void tanh_profile_inverse(const Field& phi, Field& psi) {
   if (psi.size() != phi.size() || psi.n() != phi.n())
     throw std::invalid_argument("tanh_profile_inverse: psi and phi differ in shape");
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  // The clamped bulk (phi at or beyond 0 and 1, most of a relaxed field) takes the constant
+  // without calling atanh: the same values.
+  const double psi_max = std::atanh(kClamp);
 #pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j) {
       const double* p = &phi(0, j, k);
       double* q = &psi(0, j, k);
-      for (int i = 0; i < nx; ++i) q[i] = std::atanh(std::clamp(2.0 * p[i] - 1.0, -kClamp, kClamp));
+      for (int i = 0; i < nx; ++i) {
+        const double y = 2.0 * p[i] - 1.0;
+        q[i] = y >= kClamp ? psi_max : y <= -kClamp ? -psi_max : std::atanh(y);
+      }
     }
   psi.exchange_halo();
 }

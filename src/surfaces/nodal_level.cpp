@@ -84,7 +84,9 @@ Field nodal_tanh_profile(const NodalLevelSet& nodal, double epsilon) {
       for (int i = 0; i < n; ++i) {
         const double* p = &f(i, j, k);
         const double grad = std::max(std::sqrt(grad4_sq_scaled(p, sy, sz)) * inv_12h, 1e-12);
-        phi(i, j, k) = 0.5 * (1.0 + std::tanh((p[0] - nodal.level) / grad * inv_width));
+        const double t = (p[0] - nodal.level) / grad * inv_width;
+        // tanh(t) rounds to +-1 for |t| > 19.1: the bulk skips the call, same values.
+        phi(i, j, k) = 0.5 * (1.0 + (std::abs(t) > 20.0 ? std::copysign(1.0, t) : std::tanh(t)));
       }
   phi.exchange_halo();
   return phi;
