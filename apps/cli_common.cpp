@@ -89,12 +89,16 @@ void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with
   app.add_flag("--fast", s.fast,
                "Fast mode: the options below marked (fast) take their fast values unless given "
                "(coarse-to-fine continuation, --mg-rtol 1e-2, --extrapolate, --dt-max-factor 8, "
-               "--settle-tol 1e-5); "
+               "--settle-tol 1e-5, --mg-rtol-finest 0.1); "
                "the result agrees with the default paper-faithful run to about 1e-4 in area "
                "(docs/performance.md)");
   s.mg_rtol = g->add_option("--mg-rtol", p.solver.rtol,
                 "(fast) Also stop V-cycles when the defect is below this times the step's first "
                 "defect (0: off, the paper-faithful default; --fast uses 1e-2)")
+      ->capture_default_str();
+  s.mg_rtol_finest = g->add_option("--mg-rtol-finest", p.mg_rtol_finest,
+                "(fast) --mg-rtol on the finest grid of a coarse-to-fine run, which starts from "
+                "the relaxed coarser field (0: --mg-rtol there too; --fast uses 0.1)")
       ->capture_default_str();
   s.coarse_levels = g->add_option("--coarse-levels", p.coarse_levels,
                 "(fast) Coarse-to-fine continuation: run on N/2^K first, then interpolate and "
@@ -146,6 +150,7 @@ void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surf
   c.coarse_levels_given = given(s.coarse_levels);
   c.dt_max_factor_given = given(s.dt_max_factor);
   c.settle_tol_given = given(s.settle_tol);
+  c.mg_rtol_finest_given = given(s.mg_rtol_finest);
   c.extrapolate_given = given(s.extrapolate);
   try {
     finish_run_params(p, c, check_surface);

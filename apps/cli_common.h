@@ -34,6 +34,7 @@ struct RunOptionStrings {
   CLI::Option* coarse_levels = nullptr;
   CLI::Option* dt_max_factor = nullptr;
   CLI::Option* settle_tol = nullptr;
+  CLI::Option* mg_rtol_finest = nullptr;
   CLI::Option* extrapolate = nullptr;
 };
 // What --fast selects: kFastMgRtol, kFastDtMaxFactor, fast_coarse_levels (pipeline/run_options.h).

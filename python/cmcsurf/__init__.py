@@ -38,11 +38,12 @@ __version__: str = _cmcsurf.version()
 Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
 # The solver options shared by run, relax and sweep, as keyword arguments. None: not given,
-# which for mg_rtol, coarse_levels, dt_max_factor, extrapolate and settle_tol lets fast=True
-# choose.
+# which for mg_rtol, mg_rtol_finest, coarse_levels, dt_max_factor, extrapolate and settle_tol
+# lets fast=True choose.
 _SOLVER_OPTIONS = (
     "epsilon", "dt_factor", "stop", "tol", "max_steps", "smoother", "constrain", "volume_tol",
-    "mg_tol", "fast", "mg_rtol", "coarse_levels", "extrapolate", "dt_max_factor", "settle_tol",
+    "mg_tol", "fast", "mg_rtol", "mg_rtol_finest", "coarse_levels", "extrapolate", "dt_max_factor",
+    "settle_tol",
     "max_vcycles", "pre_sweeps", "post_sweeps", "prerelax_steps", "prerelax_epsilon_factor",
     "bisection_tol", "bisection_max_it", "max_volume_corrections",
 )
@@ -85,6 +86,7 @@ def run(
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
     settle_tol: Optional[float] = None,
+    mg_rtol_finest: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,
@@ -101,8 +103,8 @@ def run(
     Nodal surfaces (P, D, G, ..., ``expr:``) go through Section 4.4's steps 1-6 at
     ``volume_fraction`` and, with ``constrain="volume"``, the mass corrections that hold the
     sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
-    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, coarse_levels, extrapolate,
-    dt_max_factor and settle_tol where they are None). ``threads``: OpenMP threads for this
+    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, mg_rtol_finest, coarse_levels,
+    extrapolate, dt_max_factor and settle_tol where they are None). ``threads``: OpenMP threads for this
     call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time
     step.
 
@@ -135,6 +137,7 @@ def relax(
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
     settle_tol: Optional[float] = None,
+    mg_rtol_finest: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,
@@ -225,6 +228,7 @@ def sweep(
     extrapolate: Optional[bool] = None,
     dt_max_factor: Optional[float] = None,
     settle_tol: Optional[float] = None,
+    mg_rtol_finest: Optional[float] = None,
     max_vcycles: int = 100,
     pre_sweeps: int = 2,
     post_sweeps: int = 2,

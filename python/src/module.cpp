@@ -199,6 +199,7 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
     else if (key == "extrapolate") { b(p.solver.extrapolate); c.extrapolate_given = true; }
     else if (key == "dt_max_factor") { d(p.dt_max_factor); c.dt_max_factor_given = true; }
     else if (key == "settle_tol") { d(p.settle_tol); c.settle_tol_given = true; }
+    else if (key == "mg_rtol_finest") { d(p.mg_rtol_finest); c.mg_rtol_finest_given = true; }
     else if (key == "max_vcycles") i(p.solver.max_vcycles);
     else if (key == "pre_sweeps") i(p.solver.fas.pre_sweeps);
     else if (key == "post_sweeps") i(p.solver.fas.post_sweeps);

@@ -45,6 +45,7 @@ nlohmann::json params_json(const RunParams& p) {
       {"coarse_levels", p.coarse_levels},
       {"dt_max_factor", p.dt_max_factor},
       {"settle_tol", p.settle_tol},
+      {"mg_rtol_finest", p.mg_rtol_finest},
       {"extrapolate", p.solver.extrapolate},
       {"fast", p.fast},
       {"max_vcycles", p.solver.max_vcycles},
@@ -99,6 +100,7 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   take("coarse_levels", p.coarse_levels);
   take("dt_max_factor", p.dt_max_factor);
   take("settle_tol", p.settle_tol, true);  // absent before 2026-11-25: off
+  take("mg_rtol_finest", p.mg_rtol_finest, true);  // the same
   take("extrapolate", p.solver.extrapolate);
   take("fast", p.fast);
   take("max_vcycles", p.solver.max_vcycles);

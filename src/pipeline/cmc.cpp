@@ -603,12 +603,17 @@ namespace {
 // and relaxed there (and volume-corrected), so most steps happen on the cheaper grid.
 RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context) {
   const bool hold = params.constrain == Constraint::kVolume;
+  // The finest grid starts from the relaxed coarse field: its V-cycles may stop at
+  // mg_rtol_finest of each step's change; the coarse grids, where the run picks its branch,
+  // keep mg_rtol.
+  RunParams finest = params;
+  if (params.mg_rtol_finest > 0.0) finest.solver.rtol = params.mg_rtol_finest;
   if (context.resume && context.resume->cursor.grid == params.grid) {
     // The checkpoint was taken on this grid: the coarse grids were done before it.
-    RunResult result = resumed_result(params, context);
-    Evolution evolution(params, context, result);
+    RunResult result = resumed_result(finest, context);
+    Evolution evolution(finest, context, result);
     evolution.restore(*context.resume);
-    relax_and_constrain(evolution, params, result, hold);
+    relax_and_constrain(evolution, finest, result, hold);
     return result;
   }
   // The clock of a run resumed on a coarser grid goes on from the checkpoint's.
@@ -618,6 +623,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   RunParams coarse_params = params;
   coarse_params.grid = params.grid / 2;
   coarse_params.coarse_levels = params.coarse_levels - 1;
+  coarse_params.mg_rtol_finest = 0.0;  // every coarser grid at mg_rtol
   RunResult coarse = run_cmc_stages(coarse_params, context);
   coarse.phi.exchange_halo();
 
@@ -633,9 +639,9 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   result.bisection = coarse.bisection;
   result.mass_before_shift = coarse.mass_before_shift;
   result.initial = coarse.initial;
-  Evolution evolution(params, context, result);
+  Evolution evolution(finest, context, result);
   evolution.continue_after(coarse, t0);
-  relax_and_constrain(evolution, params, result, hold);
+  relax_and_constrain(evolution, finest, result, hold);
   result.wall_seconds = seconds_since(t0);
   return result;
 }

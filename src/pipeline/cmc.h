@@ -62,6 +62,9 @@ struct RunParams {
   // absolute for the volume fraction; pipeline/continuation.h). A drift that does not shrink,
   // such as a slow pinch-off, never settles; the paper's stop rule still applies beside it.
   double settle_tol = 0.0;
+  // With coarse_levels > 0: the relative V-cycle stop (StepSolverOptions::rtol) on the finest
+  // grid only, which starts from the interpolated relaxed coarse field (0: solver.rtol there too).
+  double mg_rtol_finest = 0.0;
   bool fast = false;  // the user asked for `--fast` (which chose the options above)
 
   double h() const { return 1.0 / grid; }

@@ -31,6 +31,7 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
     if (!s.dt_max_factor_given) p.dt_max_factor = kFastDtMaxFactor;
     if (!s.extrapolate_given) p.solver.extrapolate = true;
     if (!s.settle_tol_given) p.settle_tol = kFastSettleTol;
+    if (!s.mg_rtol_finest_given) p.mg_rtol_finest = kFastMgRtolFinest;
     if (!s.coarse_levels_given && check_coarsenable(p.grid).empty())
       p.coarse_levels = fast_coarse_levels(p.grid);
   }
@@ -85,6 +86,8 @@ void check_run_params(const RunParams& p, bool check_surface) {
                                   check_coarsenable(p.grid >> p.coarse_levels)));
   require(p.dt_max_factor == 0.0 || (p.dt_max_factor >= p.dt_factor && p.dt_max_factor <= 1000.0),
           "--dt-max-factor", p.dt_max_factor, "0 (fixed dt) or --dt-factor <= F <= 1000");
+  require(p.mg_rtol_finest >= 0.0 && p.mg_rtol_finest < 1.0, "--mg-rtol-finest",
+          p.mg_rtol_finest, "0 (as --mg-rtol) <= R < 1");
   require(p.settle_tol >= 0.0 && p.settle_tol < 1.0, "--settle-tol", p.settle_tol,
           "0 (off) <= T < 1");
   require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");

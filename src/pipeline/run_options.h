@@ -27,14 +27,16 @@ struct RunChoices {
   bool dt_max_factor_given = false;
   bool extrapolate_given = false;
   bool settle_tol_given = false;
+  bool mg_rtol_finest_given = false;
 };
 
 // What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
 // V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h, and each
-// relaxation ended once it has settled to 1e-5.
+// relaxation ended once it has settled to 1e-5, and the finest grid's V-cycles to 1e-1.
 constexpr double kFastMgRtol = 1e-2;
 constexpr double kFastDtMaxFactor = 8.0;
 constexpr double kFastSettleTol = 1e-5;
+constexpr double kFastMgRtolFinest = 0.1;
 int fast_coarse_levels(int grid);
 
 // Applies --fast, converts the strings and checks every range (the surface and the volume
