@@ -364,7 +364,12 @@ struct Result {
   // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
   // the solve.
   void finish() {
-    quality = run_quality(profile_inverse(result.phi), params, result);
+    // The final measures' psi and samples when the run kept them; then they are let go.
+    const bool kept = result.final_psi.n() == result.phi.n();
+    quality = run_quality(kept ? result.final_psi : profile_inverse(result.phi), params, result,
+                          kept ? &result.final_samples : nullptr);
+    result.final_psi = Field();
+    result.final_samples = {};
     report = run_folder_report(params, result, quality, threads, extra);
   }
 

@@ -243,6 +243,11 @@ LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSam
 SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* samples) {
   Field psi = Field::like(phi, 2);
   tanh_profile_inverse(phi, psi);
+  return sharp_measures_psi(psi, samples);
+}
+
+SharpMeasures sharp_measures_psi(const Field& psi, std::vector<CurvatureSample>* samples) {
+  const Field& phi = psi;  // the same block and grid
   SharpMeasures m;
   static_cast<LevelSetSurface&>(m) = level_set_surface(psi, samples);
   m.area_error = m.mean_curvature_error = std::numeric_limits<double>::quiet_NaN();

@@ -66,5 +66,8 @@ struct SharpMeasures : LevelSetSurface {
 };
 // phi: any ghost width (its ghosts are not read).
 SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* samples = nullptr);
+// The same from psi = tanh_profile_inverse(phi) (ghost 2, halo current).
+SharpMeasures sharp_measures_psi(const Field& psi,
+                                 std::vector<CurvatureSample>* samples = nullptr);
 
 }  // namespace cmcsurf

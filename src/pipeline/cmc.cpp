@@ -44,9 +44,10 @@ Measures measure_field_diffuse(Field& phi, double epsilon) {
 
 namespace {
 
-// The sharp measures of phi (halo current) into m.
-void add_sharp_measures(Measures& m, const Field& phi) {
-  const SharpMeasures s = sharp_measures(phi);
+// The sharp measures into m, from phi (halo current) or, when given, from its psi.
+void add_sharp_measures(Measures& m, const Field& phi, const Field* psi = nullptr,
+                        std::vector<CurvatureSample>* samples = nullptr) {
+  const SharpMeasures s = psi ? sharp_measures_psi(*psi, samples) : sharp_measures(phi, samples);
   m.area = s.area;
   m.area_error = s.area_error;
   m.mean_curvature = s.mean_curvature;
@@ -527,7 +528,13 @@ void measure_final(RunResult& r, const RunParams& params) {
   // field); the sharp ones are added.
   r.phi.exchange_halo();
   CMCSURF_DCHECK(r.final.mass == mass(r.phi) && r.final.energy == energy(r.phi, params.epsilon));
-  add_sharp_measures(r.final, r.phi);
+  if (r.phi.whole()) {  // keep psi and the samples for the stages after the run
+    r.final_psi = Field::like(r.phi, 2);
+    tanh_profile_inverse(r.phi, r.final_psi);
+    add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
+  } else {
+    add_sharp_measures(r.final, r.phi);
+  }
   r.measure_seconds = seconds_since(t0);
 }
 

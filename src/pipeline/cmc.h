@@ -12,6 +12,7 @@
 
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
+#include "measure/sharp_surface.h"
 #include "pipeline/continuation.h"
 
 namespace cmcsurf {
@@ -153,6 +154,11 @@ struct RunResult {
   double wall_seconds = 0.0;    // the solve: steps 1-6, corrections and continuation
   double solver_seconds = 0.0;  // inside the V-cycles
   double measure_seconds = 0.0;  // the sharp measures of the final field
+  // What the final measures computed on the way, for the stages after the run (run_outputs
+  // takes them): psi = atanh(2 phi - 1) of the final field (ghost 2) and its surface's local
+  // mean curvature samples. Whole grids only (empty on a decomposed block).
+  Field final_psi;
+  std::vector<CurvatureSample> final_samples;
 };
 
 // Called after every time step with the step's record.

@@ -17,17 +17,22 @@ double seconds_since(Clock::time_point t0) {
 
 }  // namespace
 
-CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r) {
+CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,
+                       const std::vector<CurvatureSample>* samples) {
   // The final sharp volume fraction (measure_field's) is the relaxed field's own.
-  return measure_cmc_quality_psi(psi, r.final.volume_fraction, p);
+  return measure_cmc_quality_psi(psi, r.final.volume_fraction, p, samples);
 }
 
-RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r, bool preview,
+RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,
                        bool page) {
   RunOutputs out;
   const auto t0 = Clock::now();
-  const Field psi = profile_inverse(phi);
-  out.quality = run_quality(psi, p, r);
+  const bool kept = r.final_psi.n() == phi.n() && phi.whole();
+  const Field psi = kept ? std::move(r.final_psi) : profile_inverse(phi);
+  const std::vector<CurvatureSample> samples = std::move(r.final_samples);
+  r.final_psi = Field();
+  r.final_samples.clear();
+  out.quality = run_quality(psi, p, r, kept ? &samples : nullptr);
   out.quality.seconds = seconds_since(t0);
   if (preview) out.preview = make_run_preview(psi, p, r, out.quality);
   if (page) {

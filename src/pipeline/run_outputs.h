@@ -20,11 +20,13 @@ struct RunOutputs {
 };
 
 // phi: the whole final field of r (r.phi, or its gather under MPI). The quality stage always
-// runs; the preview and the page's meshes when asked for.
-RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r, bool preview,
+// runs; the preview and the page's meshes when asked for. r's final_psi and final_samples, the
+// final measures' own, are used (and left empty) where r holds them; else they are computed.
+RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,
                        bool page);
-// The quality stage alone, from a given psi (Python computes it with the run, the pictures
-// when it saves).
-CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r);
+// The quality stage alone, from a given psi and, if given, its surface's samples (Python takes
+// the quality with the run, the pictures when it saves).
+CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,
+                       const std::vector<CurvatureSample>* samples = nullptr);
 
 }  // namespace cmcsurf

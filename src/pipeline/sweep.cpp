@@ -178,13 +178,15 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
 }
 
 CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
-                                   const RunParams& params) {
+                                   const RunParams& params,
+                                   const std::vector<CurvatureSample>* known_samples) {
   if (!psi.whole())
     throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
   const auto t0 = std::chrono::steady_clock::now();
   CmcQuality q;
-  std::vector<CurvatureSample> relaxed_samples;
-  level_set_surface(psi, &relaxed_samples);
+  std::vector<CurvatureSample> computed;
+  if (!known_samples) level_set_surface(psi, &computed);
+  const std::vector<CurvatureSample>& relaxed_samples = known_samples ? *known_samples : computed;
   if (is_nodal_surface(params.surface)) {
     // The nodal surface with the relaxed surface's sharp volume fraction.
     const double v = volume_fraction;

@@ -60,8 +60,10 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
 // The same from psi = tanh_profile_inverse(relaxed) and the relaxed field's sharp volume
 // fraction, when the caller has them (the stages after a run share one psi).
+// relaxed_samples: the local H samples of psi's zero set, if the caller has them.
 CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
-                                   const RunParams& params);
+                                   const RunParams& params,
+                                   const std::vector<CurvatureSample>* relaxed_samples = nullptr);
 
 // How a member starts when a sweep resumes (sweep --resume): from scratch, from its own
 // checkpoint, or not at all, its folder holding it complete; `field` is then its final phi,
