@@ -126,6 +126,8 @@ nlohmann::json measures_json(const Measures& m) {
     j["mean_curvature"] = m.mean_curvature;
     j["mean_curvature_error"] = number(m.mean_curvature_error);
     j["total_mean_curvature"] = m.total_mean_curvature;
+    j["euler_characteristic"] = m.euler_characteristic;
+    j["genus"] = 1 - m.euler_characteristic;
   }
   j["area_diffuse"] = m.area_diffuse;
   j["mean_curvature_diffuse"] = m.mean_curvature_diffuse;
@@ -217,6 +219,11 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
        "mean curvature of the phi = 1/2 surface, area-weighted average of the local "
        "H = -div(grad psi/|grad psi|)/2 on it; positive when phase 1 is convex (1/r for a ball)"},
       {"area_error", "Richardson estimate |A_h - A_2h|/3 with A_2h from psi averaged to N/2"},
+      {"euler_characteristic",
+       "of phase 1 (phi > 1/2) as the union of its closed voxels in the periodic cell: tells "
+       "which member of a family a run found near a topology change (docs/families.md)"},
+      {"genus", "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
+                "connected (P 3, G 5, D 9; a ball 0)"},
       {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
       {"mean_curvature_diffuse",
        "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},

@@ -12,6 +12,7 @@
 #include "pipeline/continuation.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
+#include "measure/topology.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -54,6 +55,7 @@ void add_sharp_measures(Measures& m, const Field& phi, const Field* psi = nullpt
   m.mean_curvature_error = s.mean_curvature_error;
   m.mean_curvature_std = s.mean_curvature_std;
   m.total_mean_curvature = s.mean_curvature * s.area;
+  m.euler_characteristic = euler_characteristic(phi);
   m.sharp = true;
 }
 

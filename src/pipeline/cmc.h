@@ -91,6 +91,9 @@ struct Measures {
   double mass = 0.0;
   double energy = 0.0;
   bool sharp = false;  // whether the sharp measures were taken (else they are 0)
+  // Of phase 1 as closed voxels (measure/topology.h); with sharp. 1 - chi is the genus of the
+  // surface per unit cell when both phases are connected: which member of a family a run found.
+  std::int64_t euler_characteristic = 0;
 };
 // Every measure, the sharp ones included (one extra pass over the grid and one over the
 // surface). phi needs ghost >= 2; its halo is refreshed here.

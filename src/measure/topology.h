@@ -1,0 +1,25 @@
+// Topology of a phase field's phases: which member of a family a run found. Near a topology
+// change (the P family's channels pinch off towards spheres near alpha = 1/4 and 3/4) two runs
+// can end on different members with the same volume fraction; their areas differ by a few
+// percent, their Euler characteristics by whole numbers.
+#pragma once
+
+#include <cstdint>
+
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+// Euler characteristic chi = V - E + F - C of phase 1, {phi > level}, taken as the union of its
+// closed voxels (the cubes around the cell centres) in the periodic unit cell (a 3-torus): every
+// lattice vertex, edge and face that touches a phase-1 voxel counts once. A ball counts 1, a
+// solid torus or a slab 0; the P surface's phase at alpha = 1/2 -2, so that a surface between
+// two connected phases has genus 1 - chi per unit cell (P 3, G 5, D 9). Phase 1 is taken
+// 26-connected (voxels touching at an edge or a corner join), as its closed voxels are.
+// Reads one ghost layer below each axis (halo current); works on a decomposed block, summed
+// over the processes.
+std::int64_t euler_characteristic(const Field& phi, double level = 0.5);
+// Plain twin: whole grid, periodic index wrap (no halo), serial.
+std::int64_t euler_characteristic_ref(const Field& phi, double level = 0.5);
+
+}  // namespace cmcsurf
