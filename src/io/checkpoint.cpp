@@ -24,7 +24,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Measures, area, area_error, mean_curvature,
                                    mean_curvature_error, mean_curvature_std, total_mean_curvature,
                                    area_diffuse, mean_curvature_diffuse,
                                    total_mean_curvature_diffuse, mean_curvature_mu,
-                                   volume_fraction, volume_fraction_cells, mass, energy, sharp)
+                                   volume_fraction, volume_fraction_cells, mass, energy, sharp,
+                                   euler_characteristic)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StepRecord, step, stage, time, dt, area, d_area, d_phi, energy,
                                    mass, volume_fraction, vcycles, residual, elapsed)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BisectionResult, beta, v_ave, iterations)

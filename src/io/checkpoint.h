@@ -2,7 +2,7 @@
 // that `run --resume DIR` continues it to the same bits (docs/reliability.md).
 //
 // Container (little-endian; docs/reliability.md has the table):
-//   "CMCSCKPT"  u32 format (3)  u32 CRC-32 of the header  u64 header bytes
+//   "CMCSCKPT"  u32 format (4)  u32 CRC-32 of the header  u64 header bytes
 //   header: CBOR of {version, build, params, outputs, cursor, state, stepper, result,
 //                    fields: [{name, n}]}
 //   each field in the header's order: n^3 float64, x fastest (the interior; whole grid)
@@ -24,7 +24,8 @@
 namespace cmcsurf {
 
 inline constexpr const char* kCheckpointFileName = "checkpoint.bin";
-inline constexpr int kCheckpointFormat = 3;  // 2: build and outputs in the header; 3: volume_fraction per step
+inline constexpr int kCheckpointFormat = 4;  // 2: build and outputs in the header; 3: volume_fraction
+                                            // per step; 4: euler_characteristic in the measures
 
 // A file that is not a checkpoint this program can continue: what() names the file and the
 // problem (truncated, corrupted, another format, program version or build, hostile sizes or
