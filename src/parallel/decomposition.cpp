@@ -221,6 +221,29 @@ void Decomposition::broadcast(double* values, int count) const {
 #endif
 }
 
+// --- Agreement after per-process file I/O (io/pvti.*, io/checkpoint.*) ---
+
+std::string Decomposition::first_error(const std::string& mine, int* rank) const {
+  if (rank) *rank = mine.empty() ? -1 : 0;
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    ++stats_.collectives;
+    const int length = int(mine.size());
+    std::vector<int> lengths(std::size_t(ranks_), 0);
+    MPI_Allgather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, comm_->cart);
+    const auto first = std::find_if(lengths.begin(), lengths.end(), [](int l) { return l > 0; });
+    if (rank) *rank = first == lengths.end() ? -1 : int(first - lengths.begin());
+    if (first == lengths.end()) return "";
+    const int root = int(first - lengths.begin());
+    std::string message = rank_ == root ? mine : std::string(std::size_t(*first), ' ');
+    MPI_Bcast(message.data(), *first, MPI_CHAR, root, comm_->cart);
+    return message;
+  }
+#endif
+  return mine;
+}
+
 void Decomposition::abort_all(int code) const {
 #ifdef CMCSURF_HAVE_MPI
   if (comm_) MPI_Abort(MPI_COMM_WORLD, code);

@@ -81,6 +81,13 @@ class Decomposition {
   // Ends every process of the run (for an error that only some processes saw).
   [[noreturn]] void abort_all(int code) const;
 
+  // --- Agreement after per-process file I/O (io/pvti.*, io/checkpoint.*: each process writes
+  // or reads its own piece, and all must then succeed or fail together) ---
+  // Every process passes its error message ("" for none) and gets the message of the lowest
+  // rank that failed ("" if none did), the same on every process; `rank`, if given, gets
+  // that rank (-1 for none).
+  std::string first_error(const std::string& mine, int* rank = nullptr) const;
+
  private:
   struct Comm;
   std::shared_ptr<Comm> comm_;  // null: a single process
