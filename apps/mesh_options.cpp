@@ -10,6 +10,7 @@
 #include "cli_common.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
+#include "io/pvti.h"
 #include "io/vti.h"
 
 namespace cmcsurf::cli {
@@ -55,15 +56,22 @@ MeshPlan finish_mesh_output_options(const MeshOptionStrings& s, int n) {
 
 Field load_phi(const std::string& from, const std::string& option) {
   std::filesystem::path path(from);
-  if (std::filesystem::is_directory(path)) path /= "field.vti";
+  if (std::filesystem::is_directory(path)) {
+    try {
+      path = run_field_file(path);  // field.vti, or field.pvti of a decomposed run
+    } catch (const std::runtime_error& e) {
+      throw UsageError(fmt::format("{}: {}", option, e.what()));
+    }
+  }
   if (!std::filesystem::is_regular_file(path))
-    throw UsageError(fmt::format("{}: '{}' is neither a run directory with field.vti nor a .vti file",
+    throw UsageError(fmt::format("{}: '{}' is neither a run directory with field.vti (or "
+                                 "field.pvti) nor a .vti or .pvti file",
                                  option, from));
   VtiReadOptions options;
   options.ghost = 2;
   options.max_n = kMaxCellsPerAxis;  // refused before anything is allocated
   options.only = "phi";              // the phase field cmcsurf writes; no other array is read
-  VtiData data = read_vti(path, options);
+  VtiData data = read_field_file(path, options);
   return std::move(data.arrays.at("phi"));
 }
 

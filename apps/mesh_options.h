@@ -22,8 +22,9 @@ void add_mesh_output_options(CLI::App& app, MeshOptionStrings& s, bool with_shee
 // the option.
 MeshPlan finish_mesh_output_options(const MeshOptionStrings& s, int n);
 
-// Reads phi from a run directory (DIR/field.vti) or a .vti file; UsageError naming
-// `option` if the path does not exist.
+// Reads phi from a run directory (DIR/field.vti, or DIR/field.pvti with its pieces after a
+// decomposed run: io/pvti.h) or a .vti or .pvti file; UsageError naming `option` if the path
+// does not exist or a folder holds neither field file (or both).
 Field load_phi(const std::string& from, const std::string& option);
 
 // write_mesh_with_report, write_run_surface_mesh: io/mesh_output.h.

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <set>
 #include <span>
@@ -137,29 +138,56 @@ std::optional<double> parse_finite_number(std::string_view s) {
   return v;
 }
 
-std::string extent_string(int n) { return fmt::format("0 {0} 0 {0} 0 {0}", n - 1); }
-
 // ---- writer -----------------------------------------------------------------
 
-// The N^3 cell values plus the periodic wrap: (N+1)^3 points, point i on each axis holding
-// cell i mod N, so that VTK's point grid covers the whole unit cell.
+// The cell values at the points of the file: the N^3 cells plus the periodic wrap, (N+1)^3
+// points, point i on each axis holding cell i mod N, so that VTK's point grid covers the whole
+// unit cell. A block of nx x ny x nz cells gives (nx+1)(ny+1)(nz+1) points, the last on each
+// axis from its high ghosts (the next block's first cells, or the wrap).
 template <class T>
 void write_values(std::ostream& os, const Field& f, std::vector<T>& slab) {
-  const int n = f.n(), m = n + 1;
-  slab.resize(std::size_t(m) * m);
-  for (int k = 0; k < m; ++k) {
-    for (int j = 0; j < m; ++j) {
-      const double* row = f.data() + f.index(0, j % n, k % n);
-      T* dst = slab.data() + std::size_t(j) * m;
-      for (int i = 0; i < n; ++i) dst[i] = static_cast<T>(row[i]);
-      dst[n] = static_cast<T>(row[0]);
+  const bool whole = f.whole();
+  const int mx = f.nx() + 1, my = f.ny() + 1, mz = f.nz() + 1;
+  slab.resize(std::size_t(mx) * my);
+  for (int k = 0; k < mz; ++k) {
+    for (int j = 0; j < my; ++j) {
+      const double* row =
+          f.data() + (whole ? f.index(0, j % f.ny(), k % f.nz()) : f.index(0, j, k));
+      T* dst = slab.data() + std::size_t(j) * mx;
+      for (int i = 0; i < mx - 1; ++i) dst[i] = static_cast<T>(row[i]);
+      dst[mx - 1] = static_cast<T>(row[whole ? 0 : mx - 1]);
     }
     os.write(reinterpret_cast<const char*>(slab.data()),
              static_cast<std::streamsize>(slab.size() * sizeof(T)));
   }
 }
 
-// ---- reader: a small scanner for the header of our own format ---------------
+// The point extent "x0 x1 y0 y1 z0 z1" of a field's block (with the wrap or the next block's
+// first points): "0 N 0 N 0 N" for the whole grid.
+std::string point_extent(const Field& f) {
+  const auto& o = f.offset();
+  return fmt::format("{} {} {} {} {} {}", o[0], o[0] + f.nx(), o[1], o[1] + f.ny(), o[2],
+                     o[2] + f.nz());
+}
+
+// The XML declaration and the cmcsurf comment: layout=periodic, then the metadata.
+std::string comment_head(const std::map<std::string, std::string>& metadata) {
+  std::string head = "<?xml version=\"1.0\"?>\n<!-- cmcsurf\n";
+  head += std::string(kVtiLayoutKey) + "=" + kVtiPeriodicLayout + "\n";
+  for (const auto& [key, value] : metadata)
+    if (key != kVtiLayoutKey)
+      head += comment_escape(key, true) + "=" + comment_escape(value, false) + "\n";
+  head += "-->\n";
+  return head;
+}
+
+std::string origin_spacing(int n) {
+  const double h = 1.0 / n;
+  return fmt::format("Origin=\"{0:.17g} {0:.17g} {0:.17g}\" Spacing=\"{1:.17g} {1:.17g} {1:.17g}\"",
+                     h / 2, h);
+}
+
+// ---- reader: a small scanner for the headers of our own formats -------------
 
 struct ArrayInfo {
   std::string name;
@@ -174,18 +202,49 @@ struct Tag {
   bool self_closing = false;
 };
 
-class HeaderParser {
+using Extent = std::array<long long, 6>;
+
+std::string extent_text(const Extent& e) {
+  return fmt::format("{} {} {} {} {} {}", e[0], e[1], e[2], e[3], e[4], e[5]);
+}
+
+// Six integers "x0 x1 y0 y1 z0 z1".
+std::optional<Extent> parse_extent(const std::string& s) {
+  Extent e{};
+  const char* p = s.data();
+  const char* last = s.data() + s.size();
+  for (auto& v : e) {
+    while (p < last && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    const auto [q, ec] = std::from_chars(p, last, v);
+    if (ec != std::errc()) return std::nullopt;
+    p = q;
+  }
+  while (p < last && std::isspace(static_cast<unsigned char>(*p))) ++p;
+  if (p != last) return std::nullopt;
+  return e;
+}
+
+// The XML of a .vti or .pvti header: tags and attributes, the element stack, the cmcsurf
+// comment (metadata); a subclass takes the elements.
+class XmlHeaderScanner {
  public:
-  explicit HeaderParser(std::string source) : source_(std::move(source)) {}
+  XmlHeaderScanner(const char* kind, const char* root_type, std::string source)
+      : kind_(kind), root_type_(root_type), source_(std::move(source)) {}
+  virtual ~XmlHeaderScanner() = default;
 
   [[noreturn]] void fail(const std::string& msg) const {
-    throw std::runtime_error(fmt::format("cannot read VTI file '{}': {}", source_, msg));
+    throw std::runtime_error(fmt::format("cannot read {} file '{}': {}", kind_, source_, msg));
   }
 
-  // Parses text from the start; true once the '_' marker after
-  // <AppendedData> is found, false if more text is needed. Throws on
-  // unsupported content; at_eof turns "need more" into an error.
+  // Parses text from the start; true once the header is complete (a .vti: the '_' marker
+  // after <AppendedData>; a .pvti: the root element closed), false if more text is needed.
+  // Throws on unsupported content; at_eof turns "need more" into an error.
   bool parse(std::string_view text, bool at_eof) {
+    stack_.clear();
+    metadata_.clear();
+    in_appended_ = false;
+    root_closed_ = false;
+    data_start_ = 0;
     reset();
     std::size_t pos = 0;
     while (true) {
@@ -198,8 +257,10 @@ class HeaderParser {
         return true;
       }
       const std::size_t lt = text.find('<', pos);
-      if (lt == std::string_view::npos)
-        return need_more(at_eof, "no <AppendedData encoding=\"raw\"> section found");
+      if (lt == std::string_view::npos) {
+        if (complete()) return true;
+        return need_more(at_eof, missing_end());
+      }
       const std::string_view rest = text.substr(lt);
       if (rest.starts_with("<!--")) {
         const std::size_t end = text.find("-->", lt + 4);
@@ -222,24 +283,43 @@ class HeaderParser {
     }
   }
 
-  int n() const { return n_; }
-  int header_bytes() const { return header_bytes_; }
   std::size_t data_start() const { return data_start_; }
-  const std::vector<ArrayInfo>& arrays() const { return arrays_; }
   std::map<std::string, std::string>& metadata() { return metadata_; }
 
- private:
-  void reset() {
-    stack_.clear();
-    arrays_.clear();
-    metadata_.clear();
-    n_ = -1;
-    header_bytes_ = 0;
-    pieces_ = 0;
-    in_appended_ = false;
-    data_start_ = 0;
+ protected:
+  virtual void reset() = 0;
+  virtual void on_element(const Tag& tag, const std::string& parent) = 0;
+  // Whether the header is complete without an appended section (a .pvti once its root closed).
+  virtual bool complete() const { return false; }
+  virtual const char* missing_end() const = 0;
+
+  static const std::string* attr(const Tag& tag, const char* name) {
+    const auto it = tag.attrs.find(name);
+    return it == tag.attrs.end() ? nullptr : &it->second;
   }
 
+  // The root's type, compressor and byte order; returns the header_type's bytes (4 or 8).
+  int check_vtkfile(const Tag& tag) const {
+    const std::string* type = attr(tag, "type");
+    if (!type || *type != root_type_)
+      fail(fmt::format("VTKFile type=\"{}\" is not supported; only type=\"{}\"",
+                       type ? *type : "(missing)", root_type_));
+    if (const std::string* c = attr(tag, "compressor"); c && !c->empty())
+      fail(fmt::format("compressed data (compressor=\"{}\") is not supported; only uncompressed "
+                       "raw appended data (as written by cmcsurf)", *c));
+    const std::string* order = attr(tag, "byte_order");
+    if (!order || *order != "LittleEndian")
+      fail(fmt::format("byte_order=\"{}\" is not supported; only byte_order=\"LittleEndian\"",
+                       order ? *order : "(missing)"));
+    const std::string* ht = attr(tag, "header_type");
+    if (!ht || *ht == "UInt32") return 4;  // VTK's default when absent
+    if (*ht == "UInt64") return 8;
+    fail(fmt::format("header_type=\"{}\" is not supported; only UInt32 or UInt64", *ht));
+  }
+
+  void start_appended() { in_appended_ = true; }
+
+ private:
   bool need_more(bool at_eof, const char* what) const {
     if (at_eof) fail(fmt::format("{} (file truncated or not a VTK XML file?)", what));
     return false;
@@ -303,84 +383,97 @@ class HeaderParser {
     }
   }
 
-  static const std::string* attr(const Tag& tag, const char* name) {
-    const auto it = tag.attrs.find(name);
-    return it == tag.attrs.end() ? nullptr : &it->second;
-  }
-
-  // Six integers "x0 x1 y0 y1 z0 z1".
-  std::optional<std::array<long long, 6>> parse_extent(const std::string& s) const {
-    std::array<long long, 6> e{};
-    const char* p = s.data();
-    const char* last = s.data() + s.size();
-    for (auto& v : e) {
-      while (p < last && std::isspace(static_cast<unsigned char>(*p))) ++p;
-      const auto [q, ec] = std::from_chars(p, last, v);
-      if (ec != std::errc()) return std::nullopt;
-      p = q;
-    }
-    while (p < last && std::isspace(static_cast<unsigned char>(*p))) ++p;
-    if (p != last) return std::nullopt;
-    return e;
-  }
-
   void on_tag(const Tag& tag) {
     if (tag.closing) {
       if (stack_.empty() || stack_.back() != tag.name)
         fail(fmt::format("malformed XML header: unexpected </{}>", tag.name));
       stack_.pop_back();
+      root_closed_ = stack_.empty();
       return;
     }
     const std::string parent = stack_.empty() ? "" : stack_.back();
     if (stack_.empty() && tag.name != "VTKFile")
-      fail(fmt::format("the root element is <{}>; expected <VTKFile type=\"ImageData\">", tag.name));
-    if (tag.name == "VTKFile") on_vtkfile(tag);
+      fail(fmt::format("the root element is <{}>; expected <VTKFile type=\"{}\">", tag.name,
+                       root_type_));
+    on_element(tag, parent);
+    if (!tag.self_closing) stack_.push_back(tag.name);
+  }
+
+  const char* kind_;
+  const char* root_type_;
+  std::string source_;
+  std::vector<std::string> stack_;
+  std::map<std::string, std::string> metadata_;
+  bool in_appended_ = false;
+  bool root_closed_ = false;
+  std::size_t data_start_ = 0;
+
+ protected:
+  bool root_closed() const { return root_closed_; }
+};
+
+// A .vti header: one ImageData piece of Float32/Float64 PointData arrays in raw appended
+// data. `cubic`: the extent must be "0 N-1 0 N-1 0 N-1" (a whole file); otherwise any extent
+// (a piece of a .pvti).
+class HeaderParser final : public XmlHeaderScanner {
+ public:
+  explicit HeaderParser(std::string source, bool cubic = true)
+      : XmlHeaderScanner("VTI", "ImageData", std::move(source)), cubic_(cubic) {}
+
+  int n() const { return int(extent_[1] + 1); }  // points per axis of a cubic extent
+  const Extent& extent() const { return extent_; }
+  int header_bytes() const { return header_bytes_; }
+  const std::vector<ArrayInfo>& arrays() const { return arrays_; }
+
+ protected:
+  void reset() override {
+    arrays_.clear();
+    have_extent_ = false;
+    extent_ = {};
+    header_bytes_ = 0;
+    pieces_ = 0;
+  }
+
+  const char* missing_end() const override { return "no <AppendedData encoding=\"raw\"> section found"; }
+
+  void on_element(const Tag& tag, const std::string& parent) override {
+    if (tag.name == "VTKFile") header_bytes_ = check_vtkfile(tag);
     else if (tag.name == "ImageData") on_imagedata(tag);
     else if (tag.name == "Piece") on_piece(tag);
     else if (tag.name == "DataArray") on_dataarray(tag, parent);
     else if (tag.name == "AppendedData") on_appended(tag);
-    if (!tag.self_closing) stack_.push_back(tag.name);
   }
 
-  void on_vtkfile(const Tag& tag) {
-    const std::string* type = attr(tag, "type");
-    if (!type || *type != "ImageData")
-      fail(fmt::format("VTKFile type=\"{}\" is not supported; only type=\"ImageData\"",
-                       type ? *type : "(missing)"));
-    if (const std::string* c = attr(tag, "compressor"); c && !c->empty())
-      fail(fmt::format("compressed data (compressor=\"{}\") is not supported; only uncompressed "
-                       "raw appended data (as written by cmcsurf)", *c));
-    const std::string* order = attr(tag, "byte_order");
-    if (!order || *order != "LittleEndian")
-      fail(fmt::format("byte_order=\"{}\" is not supported; only byte_order=\"LittleEndian\"",
-                       order ? *order : "(missing)"));
-    const std::string* ht = attr(tag, "header_type");
-    if (!ht || *ht == "UInt32") header_bytes_ = 4;  // VTK's default when absent
-    else if (*ht == "UInt64") header_bytes_ = 8;
-    else fail(fmt::format("header_type=\"{}\" is not supported; only UInt32 or UInt64", *ht));
-  }
-
+ private:
   void on_imagedata(const Tag& tag) {
     const std::string* we = attr(tag, "WholeExtent");
     if (!we) fail("<ImageData> has no WholeExtent attribute");
     const auto e = parse_extent(*we);
     if (!e) fail(fmt::format("malformed WholeExtent=\"{}\"; expected six integers", *we));
     const auto& x = *e;
-    if (x[0] != 0 || x[2] != 0 || x[4] != 0 || x[1] != x[3] || x[3] != x[5] || x[1] < 0 ||
-        x[1] >= (1 << 20))
-      fail(fmt::format("WholeExtent=\"{}\" is not supported; only a cubic extent "
-                       "\"0 N-1 0 N-1 0 N-1\" with the same N >= 1 in all directions", *we));
-    n_ = static_cast<int>(x[1] + 1);
+    if (cubic_) {
+      if (x[0] != 0 || x[2] != 0 || x[4] != 0 || x[1] != x[3] || x[3] != x[5] || x[1] < 0 ||
+          x[1] >= (1 << 20))
+        fail(fmt::format("WholeExtent=\"{}\" is not supported; only a cubic extent "
+                         "\"0 N-1 0 N-1 0 N-1\" with the same N >= 1 in all directions", *we));
+    } else {
+      for (int a = 0; a < 3; ++a)
+        if (x[2 * a] < 0 || x[2 * a + 1] < x[2 * a] || x[2 * a + 1] >= (1 << 20))
+          fail(fmt::format("WholeExtent=\"{}\" is not supported; expected 0 <= lo <= hi < 2^20 "
+                           "along every axis", *we));
+    }
+    extent_ = x;
+    have_extent_ = true;
   }
 
   void on_piece(const Tag& tag) {
-    if (n_ < 0) fail("<Piece> appears before <ImageData WholeExtent=...>");
+    if (!have_extent_) fail("<Piece> appears before <ImageData WholeExtent=...>");
     if (++pieces_ > 1) fail("more than one <Piece> is not supported; only a single piece");
     if (const std::string* ext = attr(tag, "Extent")) {
       const auto e = parse_extent(*ext);
-      if (!e || *e != parse_extent(extent_string(n_)).value())
+      if (!e || *e != extent_)
         fail(fmt::format("Piece Extent=\"{}\" differs from WholeExtent=\"{}\"; only a single piece "
-                         "covering the whole extent is supported", *ext, extent_string(n_)));
+                         "covering the whole extent is supported", *ext, extent_text(extent_)));
     }
   }
 
@@ -422,45 +515,137 @@ class HeaderParser {
     if (!enc || *enc != "raw")
       fail(fmt::format("AppendedData encoding=\"{}\" is not supported; only encoding=\"raw\"",
                        enc ? *enc : "(missing)"));
-    if (n_ < 0) fail("<AppendedData> appears before <ImageData WholeExtent=...>");
+    if (!have_extent_) fail("<AppendedData> appears before <ImageData WholeExtent=...>");
     if (tag.self_closing) fail("<AppendedData/> is empty");
-    in_appended_ = true;
+    start_appended();
   }
 
-  std::string source_;
-  std::vector<std::string> stack_;
+  bool cubic_;
   std::vector<ArrayInfo> arrays_;
-  std::map<std::string, std::string> metadata_;
-  int n_ = -1;
+  Extent extent_{};
+  bool have_extent_ = false;
   int header_bytes_ = 0;
   int pieces_ = 0;
-  bool in_appended_ = false;
-  std::size_t data_start_ = 0;
 };
 
-// Reads m^3 point values (x fastest) into the N^3 cells of f: m = N, or m = N + 1 with the
-// periodic wrap, whose last point on each axis repeats the first and is skipped.
+// A .pvti: PImageData with a cubic WholeExtent, PPointData of scalar Float32/Float64 arrays and
+// the pieces' extents and files; nothing is appended.
+class PvtiParser final : public XmlHeaderScanner {
+ public:
+  explicit PvtiParser(std::string source)
+      : XmlHeaderScanner("PVTI", "PImageData", std::move(source)) {}
+
+  PvtiHeader header;
+
+ protected:
+  void reset() override {
+    header = PvtiHeader{};
+    have_extent_ = false;
+  }
+  bool complete() const override { return root_closed(); }
+  const char* missing_end() const override { return "the file ends before </VTKFile>"; }
+
+  void on_element(const Tag& tag, const std::string& parent) override {
+    if (tag.name == "VTKFile") {
+      check_vtkfile(tag);
+    } else if (tag.name == "PImageData") {
+      const std::string* we = attr(tag, "WholeExtent");
+      if (!we) fail("<PImageData> has no WholeExtent attribute");
+      const auto e = parse_extent(*we);
+      if (!e) fail(fmt::format("malformed WholeExtent=\"{}\"; expected six integers", *we));
+      const auto& x = *e;
+      if (x[0] != 0 || x[2] != 0 || x[4] != 0 || x[1] != x[3] || x[3] != x[5] || x[1] < 1 ||
+          x[1] >= (1 << 20))
+        fail(fmt::format("WholeExtent=\"{}\" is not supported; only a cubic extent "
+                         "\"0 N 0 N 0 N\" with the same N >= 1 in all directions", *we));
+      if (const std::string* g = attr(tag, "GhostLevel"); g && *g != "0")
+        fail(fmt::format("GhostLevel=\"{}\" is not supported; only pieces without ghost "
+                         "levels (0)", *g));
+      header.whole_extent = x;
+      have_extent_ = true;
+    } else if (tag.name == "PDataArray") {
+      const std::string* name_attr = attr(tag, "Name");
+      const std::string name = name_attr ? *name_attr : "(unnamed)";
+      if (parent == "PCellData")
+        fail(fmt::format("PCellData array '{}' is not supported; only PPointData arrays (cmcsurf "
+                         "writes cell-centred values as points at the cell centres)", name));
+      if (parent != "PPointData")
+        fail(fmt::format("PDataArray '{}' inside <{}> is not supported; only <PPointData> arrays",
+                         name, parent));
+      if (!name_attr || name_attr->empty()) fail("a PPointData PDataArray has no Name");
+      const std::string* type = attr(tag, "type");
+      if (!type || (*type != "Float32" && *type != "Float64"))
+        fail(fmt::format("PDataArray '{}' has type=\"{}\"; only Float32 or Float64 are supported",
+                         name, type ? *type : "(missing)"));
+      if (const std::string* nc = attr(tag, "NumberOfComponents"); nc && *nc != "1")
+        fail(fmt::format("PDataArray '{}' has NumberOfComponents=\"{}\"; only scalar arrays (1) "
+                         "are supported", name, *nc));
+      for (const auto& a : header.arrays)
+        if (a.first == name) fail(fmt::format("two PPointData arrays are named '{}'", name));
+      header.arrays.emplace_back(name, *type == "Float32");
+    } else if (tag.name == "Piece") {
+      if (!have_extent_ || parent != "PImageData")
+        fail("<Piece> outside <PImageData WholeExtent=...>");
+      if (header.pieces.size() >= kMaxPvtiPieces)
+        fail(fmt::format("more than {} pieces", kMaxPvtiPieces));
+      const std::string* ext = attr(tag, "Extent");
+      const std::string* source = attr(tag, "Source");
+      if (!ext) fail(fmt::format("piece {} has no Extent", header.pieces.size()));
+      const auto e = parse_extent(*ext);
+      if (!e) fail(fmt::format("piece {} has a malformed Extent=\"{}\"; expected six integers",
+                               header.pieces.size(), *ext));
+      if (!source || source->empty())
+        fail(fmt::format("piece {} (Extent=\"{}\") has no Source file", header.pieces.size(),
+                         *ext));
+      header.pieces.push_back({*e, *source});
+    }
+  }
+
+ private:
+  bool have_extent_ = false;
+};
+
+// Reads an array's m[0] x m[1] x m[2] point values (x fastest): of the first cells[a] points
+// per axis, point i is cell first[a] + i, checked finite and put into f where f's block holds
+// it; the other points (the periodic wrap, or the next piece's first points) are skipped.
+// False on a read error.
 template <class T>
-void read_values(std::istream& in, Field& f, int m, std::vector<char>& bytes) {
-  const int n = f.n();
-  bytes.resize(std::size_t(m) * m * sizeof(T));
-  for (int k = 0; k < m; ++k) {
+bool read_values(std::istream& in, Field& f, const std::array<int, 3>& m,
+                 const std::array<int, 3>& cells, const std::array<long long, 3>& first,
+                 std::vector<char>& bytes, const std::function<void(double, const std::array<long long, 3>&)>& non_finite) {
+  const std::size_t row_bytes = std::size_t(m[0]) * sizeof(T);
+  bytes.resize(row_bytes * std::size_t(m[1]));
+  const auto& o = f.offset();
+  // The x range of the rows that lands in f's block.
+  const long long i0 = std::max<long long>(0, o[0] - first[0]);
+  const long long i1 = std::min<long long>(cells[0], o[0] + f.nx() - first[0]);
+  for (int k = 0; k < m[2]; ++k) {
     in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (k >= n) continue;
-    for (int j = 0; j < n; ++j) {
-      double* row = &f(0, j, k);
-      const char* src = bytes.data() + std::size_t(j) * m * sizeof(T);
+    if (!in) return false;
+    if (k >= cells[2]) continue;
+    const long long lz = first[2] + k - o[2];
+    for (int j = 0; j < cells[1]; ++j) {
+      const char* src = bytes.data() + std::size_t(j) * row_bytes;
+      for (int i = 0; i < cells[0]; ++i) {
+        T v;
+        std::memcpy(&v, src + std::size_t(i) * sizeof(T), sizeof(T));
+        if (!std::isfinite(v)) non_finite(double(v), {first[0] + i, first[1] + j, first[2] + k});
+      }
+      const long long ly = first[1] + j - o[1];
+      if (lz < 0 || lz >= f.nz() || ly < 0 || ly >= f.ny() || i1 <= i0) continue;
+      double* row = &f(int(first[0] + i0 - o[0]), int(ly), int(lz));
       if constexpr (std::is_same_v<T, double>) {
-        std::memcpy(row, src, sizeof(double) * n);
+        std::memcpy(row, src + std::size_t(i0) * sizeof(T), sizeof(double) * std::size_t(i1 - i0));
       } else {
-        for (int i = 0; i < n; ++i) {
+        for (long long i = i0; i < i1; ++i) {
           T v;
           std::memcpy(&v, src + std::size_t(i) * sizeof(T), sizeof(T));
-          row[i] = static_cast<double>(v);
+          row[i - i0] = static_cast<double>(v);
         }
       }
     }
   }
+  return true;
 }
 
 // A read-only, seekable stream buffer over bytes in memory (parse_vti).
@@ -502,30 +687,30 @@ void write_vti(const std::filesystem::path& path, const std::vector<VtiArray>& a
       throw std::invalid_argument(fmt::format("write_vti: array '{}' has N={}, '{}' has N={}",
                                               a.name, a.field->n(), arrays[0].name,
                                               arrays[0].field->n()));
+    if (a.field->offset() != arrays[0].field->offset() ||
+        a.field->size() != arrays[0].field->size())
+      throw std::invalid_argument(fmt::format("write_vti: arrays '{}' and '{}' are on other blocks",
+                                              a.name, arrays[0].name));
+    if (!a.field->whole() && a.field->ghost() < 1)
+      throw std::invalid_argument(fmt::format(
+          "write_vti: block '{}' has no ghost layer for the next block's first points", a.name));
     if (a.name.empty() || !names.insert(a.name).second)
       throw std::invalid_argument("write_vti: array names must be unique and non-empty: '" +
                                   a.name + "'");
   }
-  const int n = arrays[0].field->n();
-  const double h = 1.0 / n;
+  const Field& first = *arrays[0].field;
+  const int n = first.n();
   const std::size_t elem = float32 ? sizeof(float) : sizeof(double);
-  const std::uint64_t points = std::uint64_t(n + 1) * (n + 1) * (n + 1);
+  const std::uint64_t points =
+      std::uint64_t(first.nx() + 1) * (first.ny() + 1) * (first.nz() + 1);
   const std::uint64_t bytes = points * elem;
   const char* type = float32 ? "Float32" : "Float64";
-  const std::string extent = extent_string(n + 1);
+  const std::string extent = point_extent(first);
 
-  std::string head = "<?xml version=\"1.0\"?>\n<!-- cmcsurf\n";
-  head += std::string(kVtiLayoutKey) + "=" + kVtiPeriodicLayout + "\n";
-  for (const auto& [key, value] : metadata)
-    if (key != kVtiLayoutKey)
-      head += comment_escape(key, true) + "=" + comment_escape(value, false) + "\n";
-  head += "-->\n";
+  std::string head = comment_head(metadata);
   head += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" "
           "header_type=\"UInt64\">\n";
-  head += fmt::format(
-      "  <ImageData WholeExtent=\"{0}\" Origin=\"{1:.17g} {1:.17g} {1:.17g}\" "
-      "Spacing=\"{2:.17g} {2:.17g} {2:.17g}\">\n",
-      extent, h / 2, h);
+  head += fmt::format("  <ImageData WholeExtent=\"{}\" {}>\n", extent, origin_spacing(n));
   std::string field_data;
   for (const auto& [key, value] : metadata) {
     if (const auto v = parse_finite_number(value))
@@ -562,6 +747,28 @@ void write_vti(const std::filesystem::path& path, const std::vector<VtiArray>& a
   writer.commit();
 }
 
+std::string format_pvti(int n, const std::vector<std::string>& names, bool float32,
+                        const std::map<std::string, std::string>& metadata,
+                        const std::vector<PvtiPiece>& pieces) {
+  if (names.empty()) throw std::invalid_argument("format_pvti: no arrays");
+  const char* type = float32 ? "Float32" : "Float64";
+  std::string text = comment_head(metadata);
+  text += "<VTKFile type=\"PImageData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+          "header_type=\"UInt64\">\n";
+  text += fmt::format("  <PImageData WholeExtent=\"0 {0} 0 {0} 0 {0}\" GhostLevel=\"0\" {1}>\n", n,
+                      origin_spacing(n));
+  text += fmt::format("    <PPointData Scalars=\"{}\">\n", xml_escape(names[0]));
+  for (const std::string& name : names)
+    text += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\"/>\n", type, xml_escape(name));
+  text += "    </PPointData>\n    <PCellData>\n    </PCellData>\n";
+  for (const PvtiPiece& p : pieces)
+    text += fmt::format("    <Piece Extent=\"{} {} {} {} {} {}\" Source=\"{}\"/>\n", p.extent[0],
+                        p.extent[1], p.extent[2], p.extent[3], p.extent[4], p.extent[5],
+                        xml_escape(p.source));
+  text += "  </PImageData>\n</VTKFile>\n";
+  return text;
+}
+
 VtiData read_vti(const std::filesystem::path& path, int ghost) {
   VtiReadOptions options;
   options.ghost = ghost;
@@ -588,11 +795,9 @@ VtiData parse_vti(std::span<const unsigned char> bytes, const VtiReadOptions& op
 
 namespace {
 
-// `in` holds file_size bytes, positioned at the start.
-VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser& parser,
-                        const VtiReadOptions& options) {
-  // Read a growing prefix until the header parses up to the '_' marker, at most
-  // kMaxVtiHeaderBytes.
+// The header of the VTI file in `in` (positioned at the start): a growing prefix is read until
+// it parses up to the '_' marker, at most kMaxVtiHeaderBytes.
+void read_header(std::istream& in, HeaderParser& parser) {
   std::string text;
   std::size_t chunk = 1 << 16;
   while (true) {
@@ -611,6 +816,79 @@ VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser&
     chunk = text.size();
   }
   if (parser.arrays().empty()) parser.fail("no PointData arrays found");
+}
+
+// "4^3 = 64" or "4 x 5 x 6 = 120" points.
+std::string points_text(const std::array<int, 3>& m) {
+  const std::uint64_t count = std::uint64_t(m[0]) * m[1] * m[2];
+  if (m[0] == m[1] && m[1] == m[2]) return fmt::format("{}^3 = {}", m[0], count);
+  return fmt::format("{} x {} x {} = {}", m[0], m[1], m[2], count);
+}
+
+std::pair<std::uint64_t, std::uint64_t> byte_range(const HeaderParser& parser, const ArrayInfo& a,
+                                                   const std::array<int, 3>& m) {
+  const std::uint64_t expected = std::uint64_t(m[0]) * m[1] * m[2] * (a.float32 ? 4 : 8);
+  const std::uint64_t begin = parser.data_start() + a.offset;
+  return {begin, begin + parser.header_bytes() + expected};
+}
+
+// Every array's bytes (its byte count, then m[0] m[1] m[2] values) lie in the file, and no two
+// arrays share bytes.
+void check_byte_ranges(const HeaderParser& parser, const std::array<int, 3>& m,
+                       std::uint64_t file_size) {
+  const int hb = parser.header_bytes();
+  struct Range {
+    std::uint64_t begin, end;
+    std::string name;
+  };
+  std::vector<Range> ranges;
+  for (const ArrayInfo& a : parser.arrays()) {
+    // First the offset alone: data_start + offset must not wrap past 2^64 to the header.
+    if (a.offset > file_size)
+      parser.fail(fmt::format("array '{}' has offset {} beyond the end of the file ({} bytes)",
+                              a.name, a.offset, file_size));
+    const auto [begin, end] = byte_range(parser, a, m);
+    if (begin + hb > file_size || end > file_size)
+      parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
+                              a.name, begin, end, file_size));
+    ranges.push_back({begin, end, a.name});
+  }
+  std::sort(ranges.begin(), ranges.end(),
+            [](const Range& x, const Range& y) { return x.begin < y.begin; });
+  for (std::size_t q = 1; q < ranges.size(); ++q)
+    if (ranges[q].begin < ranges[q - 1].end)
+      parser.fail(fmt::format("arrays '{}' and '{}' overlap in the appended data",
+                              ranges[q - 1].name, ranges[q].name));
+}
+
+// Reads array a (m points per axis; cells and first as read_values takes them) into f.
+void read_array(std::istream& in, const HeaderParser& parser, const ArrayInfo& a, Field& f,
+                const std::array<int, 3>& m, const std::array<int, 3>& cells,
+                const std::array<long long, 3>& first, std::vector<char>& bytes) {
+  const auto [begin, end] = byte_range(parser, a, m);
+  const int hb = parser.header_bytes();
+  const std::uint64_t expected = end - begin - hb;
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(begin));
+  std::uint64_t count = 0;
+  in.read(reinterpret_cast<char*>(&count), hb);  // little-endian: low bytes first
+  if (count != expected)
+    parser.fail(fmt::format("array '{}' has a byte count of {} but {} {} values need {} bytes",
+                            a.name, count, points_text(m), a.float32 ? "Float32" : "Float64",
+                            expected));
+  auto non_finite = [&](double v, const std::array<long long, 3>& c) {
+    parser.fail(fmt::format("array '{}' holds a non-finite value ({}) at cell ({}, {}, {})",
+                            a.name, v, c[0], c[1], c[2]));
+  };
+  const bool ok = a.float32 ? read_values<float>(in, f, m, cells, first, bytes, non_finite)
+                            : read_values<double>(in, f, m, cells, first, bytes, non_finite);
+  if (!ok) parser.fail(fmt::format("read error in array '{}': {}", a.name, std::strerror(errno)));
+}
+
+// `in` holds file_size bytes, positioned at the start.
+VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser& parser,
+                        const VtiReadOptions& options) {
+  read_header(in, parser);
   // m points per axis; with cmcsurf's periodic layout they are the N cells plus the wrap.
   const int m = parser.n();
   const auto layout = parser.metadata().find(kVtiLayoutKey);
@@ -634,61 +912,15 @@ VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser&
   } else {
     wanted = parser.arrays();
   }
-  const int hb = parser.header_bytes();
-  auto byte_range = [&](const ArrayInfo& a) {
-    const std::uint64_t expected = std::uint64_t(m) * m * m * (a.float32 ? 4 : 8);
-    const std::uint64_t begin = parser.data_start() + a.offset;
-    return std::pair{begin, begin + hb + expected};
-  };
-  // Every array's bytes lie in the file, and no two arrays share bytes.
-  struct Range {
-    std::uint64_t begin, end;
-    std::string name;
-  };
-  std::vector<Range> ranges;
-  for (const ArrayInfo& a : parser.arrays()) {
-    // First the offset alone: data_start + offset must not wrap past 2^64 to the header.
-    if (a.offset > file_size)
-      parser.fail(fmt::format("array '{}' has offset {} beyond the end of the file ({} bytes)",
-                              a.name, a.offset, file_size));
-    const auto [begin, end] = byte_range(a);
-    if (begin + hb > file_size || end > file_size)
-      parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
-                              a.name, begin, end, file_size));
-    ranges.push_back({begin, end, a.name});
-  }
-  std::sort(ranges.begin(), ranges.end(),
-            [](const Range& x, const Range& y) { return x.begin < y.begin; });
-  for (std::size_t q = 1; q < ranges.size(); ++q)
-    if (ranges[q].begin < ranges[q - 1].end)
-      parser.fail(fmt::format("arrays '{}' and '{}' overlap in the appended data",
-                              ranges[q - 1].name, ranges[q].name));
+  check_byte_ranges(parser, {m, m, m}, file_size);
 
   VtiData result;
   result.n = n;
   result.metadata = std::move(parser.metadata());
   std::vector<char> bytes;
   for (const ArrayInfo& a : wanted) {
-    const auto [begin, end] = byte_range(a);
-    const std::uint64_t expected = end - begin - hb;
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(begin));
-    std::uint64_t count = 0;
-    in.read(reinterpret_cast<char*>(&count), hb);  // little-endian: low bytes first
-    if (count != expected)
-      parser.fail(fmt::format("array '{}' has a byte count of {} but {}^3 = {} {} values need {} bytes",
-                              a.name, count, m, std::uint64_t(m) * m * m,
-                              a.float32 ? "Float32" : "Float64", expected));
     Field f(n, options.ghost);
-    if (a.float32) read_values<float>(in, f, m, bytes);
-    else read_values<double>(in, f, m, bytes);
-    if (!in) parser.fail(fmt::format("read error in array '{}': {}", a.name, std::strerror(errno)));
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          if (!std::isfinite(f(i, j, k)))
-            parser.fail(fmt::format("array '{}' holds a non-finite value ({}) at cell ({}, {}, {})",
-                                    a.name, f(i, j, k), i, j, k));
+    read_array(in, parser, a, f, {m, m, m}, {n, n, n}, {0, 0, 0}, bytes);
     f.exchange_halo();
     result.arrays.emplace(a.name, std::move(f));
   }
@@ -696,5 +928,51 @@ VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser&
 }
 
 }  // namespace
+
+PvtiHeader parse_pvti(std::string_view text, const std::string& source) {
+  PvtiParser parser(source);
+  if (text.size() > kMaxPvtiBytes)
+    parser.fail(fmt::format("{} bytes; a .pvti of cmcsurf is below {} bytes", text.size(),
+                            kMaxPvtiBytes));
+  parser.parse(text, true);
+  if (parser.header.arrays.empty()) parser.fail("no PPointData arrays found");
+  if (parser.header.pieces.empty()) parser.fail("no <Piece> found");
+  parser.header.metadata = std::move(parser.metadata());
+  return std::move(parser.header);
+}
+
+void read_vti_piece(const std::filesystem::path& path, const std::array<long long, 6>& extent,
+                    const std::vector<VtiPieceTarget>& targets, const std::string& pvti) {
+  HeaderParser parser(path.string(), false);
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) parser.fail(fmt::format("{} (a piece of {})", ec.message(), pvti));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) parser.fail(fmt::format("{} (a piece of {})", std::strerror(errno), pvti));
+  read_header(in, parser);
+  if (parser.extent() != extent)
+    parser.fail(fmt::format("its extent \"{}\" differs from the Extent=\"{}\" that {} gives it",
+                            extent_text(parser.extent()), extent_text(extent), pvti));
+  std::array<int, 3> m{}, cells{};
+  std::array<long long, 3> first{};
+  for (int a = 0; a < 3; ++a) {
+    m[a] = int(extent[2 * a + 1] - extent[2 * a] + 1);
+    cells[a] = m[a] - 1;  // the last points are the next piece's first ones, or the wrap
+    first[a] = extent[2 * a];
+  }
+  check_byte_ranges(parser, m, file_size);
+  std::vector<char> bytes;
+  for (const VtiPieceTarget& t : targets) {
+    const auto it = std::find_if(parser.arrays().begin(), parser.arrays().end(),
+                                 [&](const ArrayInfo& a) { return a.name == t.name; });
+    if (it == parser.arrays().end())
+      parser.fail(fmt::format("no array '{}', which {} lists", t.name, pvti));
+    if (it->float32 != t.float32)
+      parser.fail(fmt::format("array '{}' is {}, but {} says {}", t.name,
+                              it->float32 ? "Float32" : "Float64", pvti,
+                              t.float32 ? "Float32" : "Float64"));
+    read_array(in, parser, *it, *t.field, m, cells, first, bytes);
+  }
+}
 
 }  // namespace cmcsurf

@@ -11,6 +11,7 @@
 
 #include "io/atomic_file.h"
 #include "io/png.h"
+#include "io/pvti.h"
 #include "io/report_html.h"
 #include "io/vti.h"
 #include "pipeline/preview.h"
@@ -87,12 +88,12 @@ nlohmann::json read_csv_columns(const fs::path& path) {
   return columns;
 }
 
-// psi = atanh(2 phi - 1) of a folder's field.vti, for preview_surfaces.
+// psi = atanh(2 phi - 1) of a folder's field.vti (or field.pvti), for preview_surfaces.
 Field read_psi(const fs::path& dir) {
   VtiReadOptions options;
   options.ghost = 2;
   options.only = "phi";
-  VtiData data = read_vti(dir / "field.vti", options);
+  VtiData data = read_field_file(run_field_file(dir), options);
   return profile_inverse(data.arrays.at("phi"));
 }
 
