@@ -44,13 +44,6 @@ const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
 }
 
-// A whole-grid copy of a (possibly decomposed) field, on rank 0; the field itself when whole.
-Field gathered(const Field& f, int ghost) {
-  Field whole(f.n(), ghost);
-  gather_field(f, whole, false);
-  return whole;
-}
-
 }  // namespace
 
 SignalGuard::SignalGuard() {
@@ -136,32 +129,13 @@ nlohmann::json read_json_file(const fs::path& path) {
 
 void CheckpointSink::write(const Checkpoint& c) {
   const double t0 = now_seconds();
-  const bool split = world_ && world_->distributed();
-  if (!split) {
-    write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
+  if (world_ && world_->distributed() && !c.result.phi.decomposition()) {
+    // Fields every process holds whole (a grid the run does not split): rank 0 writes them.
+    if (world_->rank() == 0) write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   } else {
-    // Rank 0 writes the whole grid; the gathers are collective, so every rank takes part.
-    Checkpoint whole;
-    whole.cursor = c.cursor;
-    whole.step = c.step;
-    whole.time = c.time;
-    whole.last_step_converged = c.last_step_converged;
-    whole.elapsed = c.elapsed;
-    whole.stepper.nu_valid = c.stepper.nu_valid;
-    whole.stepper.history_valid = c.stepper.history_valid;
-    whole.stepper.prev_dt = c.stepper.prev_dt;
-    Field phi = gathered(c.result.phi, 2);
-    if (c.stepper.nu_valid) whole.stepper.nu = gathered(c.stepper.nu, 1);
-    if (c.stepper.history_valid) {
-      whole.stepper.prev_phi = gathered(c.stepper.prev_phi, 0);
-      whole.stepper.prev_nu = gathered(c.stepper.prev_nu, 0);
-    }
-    if (world_->rank() == 0) {
-      RunResult r = c.result;  // its block's copy is small; the whole phi replaces it
-      r.phi = std::move(phi);
-      whole.result = std::move(r);
-      write_checkpoint(dir_ / kCheckpointFileName, params_, whole, outputs_);
-    }
+    // Whole grids: one file (format 4); blocks: every process writes its own piece (format 5,
+    // collective), so that no process holds the whole grid (io/checkpoint.h).
+    write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   }
   ++written_;
   seconds_ += now_seconds() - t0;
@@ -216,15 +190,22 @@ int finish_interrupted(const fs::path& dir, const RunParams& params, RunInterrup
 LoadedCheckpoint load_checkpoint(const fs::path& dir, RunEntry entry,
                                  const std::shared_ptr<const Decomposition>& world) {
   const fs::path file = dir / kCheckpointFileName;
-  CheckpointFile f;
-  try {
-    f = read_checkpoint(file);
-  } catch (const CheckpointError& e) {
-    throw UsageError(fmt::format("--resume: {}", e.what()));
-  }
-  // Before any field is cut into blocks: the run of these parameters must pass through the
-  // checkpoint's grid and stage, on this many processes.
+  // Under a decomposition every process reads only its blocks (of the file, or of the pieces
+  // that hold them), so the processes may see different errors: they agree on the first.
   const bool split = world && world->distributed();
+  CheckpointReadOptions options;
+  if (split) options.decomposition = world;
+  CheckpointFile f;
+  std::string error;
+  try {
+    f = read_checkpoint(file, options);
+  } catch (const CheckpointError& e) {
+    error = e.what();
+  }
+  if (split) error = world->first_error(error);
+  if (!error.empty()) throw UsageError(fmt::format("--resume: {}", error));
+  // The run of these parameters must pass through the checkpoint's grid and stage, on this
+  // many processes (the fields are empty where that grid does not split).
   const std::string problem = resume_problem(f.checkpoint, params_from_json(f.params), entry,
                                              split ? world.get() : nullptr);
   if (!problem.empty())
@@ -234,18 +215,9 @@ LoadedCheckpoint load_checkpoint(const fs::path& dir, RunEntry entry,
                                  problem));
   LoadedCheckpoint loaded{std::move(f.params), std::move(f.outputs), nullptr};
   auto c = std::make_shared<Checkpoint>(std::move(f.checkpoint));
-  if (split) {  // this process's blocks of the whole fields
-    auto cut = [&](Field& whole) {
-      if (whole.n() == 0) return;
-      Field block(whole.n(), whole.ghost(), world);
-      take_block(whole, block);
-      block.exchange_halo();
-      whole = std::move(block);
-    };
-    cut(c->result.phi);
-    cut(c->stepper.nu);
-    cut(c->stepper.prev_phi);
-    cut(c->stepper.prev_nu);
+  if (split) {  // the blocks were read interior only
+    for (Field* x : {&c->result.phi, &c->stepper.nu, &c->stepper.prev_phi, &c->stepper.prev_nu})
+      if (x->n() != 0) x->exchange_halo();
   }
   loaded.checkpoint = std::move(c);
   return loaded;

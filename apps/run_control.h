@@ -40,8 +40,8 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
 
 // The RunContext hooks of a run writing into dir: control() asks for a checkpoint every
 // `every` seconds and stops on a signal (one decision for all processes under MPI), and
-// checkpoint() writes dir/checkpoint.bin (rank 0, the fields gathered). A failed write is a
-// warning: the run goes on.
+// checkpoint() writes dir/checkpoint.bin (every process its blocks under a decomposition:
+// io/checkpoint.h, format 5). A failed write is a warning: the run goes on.
 class CheckpointSink {
  public:
   // `outputs`: the run's output options, kept in the checkpoint so that --resume writes the
@@ -79,8 +79,8 @@ int finish_interrupted(const std::filesystem::path& dir, const RunParams& params
 
 // dir/checkpoint.bin for `run --resume dir` or a sweep member: read, checked against the run
 // that continues it (`entry` with the checkpoint's own parameters, on `world`: resume_problem),
-// and the fields cut to this process's blocks under a decomposition. Any problem is a
-// UsageError naming the file.
+// and, under a decomposition, only this process's blocks of the fields read (collective: the
+// processes agree on errors). Any problem is a UsageError naming the file.
 struct LoadedCheckpoint {
   nlohmann::json params;   // params_json of the run, in range
   nlohmann::json outputs;  // the output options it was started with (an object)

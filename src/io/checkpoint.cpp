@@ -5,16 +5,20 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <memory>
+#include <random>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
 #include "io/run_report.h"
+#include "parallel/agree.h"
 
 namespace cmcsurf {
 
@@ -198,7 +202,200 @@ void check_state(const CheckpointFile& f, int max_n) {
                      c.result.history.back().step, c.step));
 }
 
-CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std::string& name) {
+// ---- format 5: the fields in one piece file per process ----------------------
+
+constexpr std::array<char, 8> kPieceMagic = {'C', 'M', 'C', 'S', 'C', 'P', 'R', 'T'};
+constexpr std::size_t kPiecePreambleBytes = 8 + 4 + 8 + 4 + 3 * 4 + 3 * 4 + 4;
+constexpr std::size_t kMaxPieces = std::size_t(1) << 20;
+
+struct PieceEntry {
+  std::string file;  // in checkpoint.parts/
+  std::array<int, 3> offset{}, size{};
+  std::uint32_t crc = 0;
+};
+
+struct PieceList {
+  std::uint64_t id = 0;
+  std::vector<PieceEntry> pieces;  // in rank order
+};
+
+std::string piece_file_name(std::uint64_t id, std::size_t rank) {
+  return fmt::format("{:016x}-r{:06d}.bin", id, rank);
+}
+
+nlohmann::json piece_list_json(const PieceList& list) {
+  nlohmann::json entries = nlohmann::json::array();
+  for (const PieceEntry& p : list.pieces)
+    entries.push_back({{"file", p.file}, {"offset", p.offset}, {"size", p.size}, {"crc", p.crc}});
+  return {{"id", fmt::format("{:016x}", list.id)}, {"list", entries}};
+}
+
+// The header's pieces: an id of 16 hex digits, and 1 to kMaxPieces entries named after it and
+// their rank (so that no name leaves the pieces' folder). Throws on anything else.
+PieceList read_piece_list(const nlohmann::json& j) {
+  PieceList list;
+  const std::string id = j.at("id").get<std::string>();
+  if (id.size() != 16 || id.find_first_not_of("0123456789abcdef") != std::string::npos)
+    throw std::runtime_error(fmt::format("pieces.id '{}' is not 16 hex digits", id));
+  list.id = std::stoull(id, nullptr, 16);
+  const nlohmann::json& entries = j.at("list");
+  if (!entries.is_array() || entries.empty() || entries.size() > kMaxPieces)
+    throw std::runtime_error(fmt::format("pieces.list holds {} entries; 1 to {} expected",
+                                         entries.is_array() ? entries.size() : 0, kMaxPieces));
+  for (std::size_t q = 0; q < entries.size(); ++q) {
+    const nlohmann::json& e = entries[q];
+    PieceEntry p;
+    e.at("file").get_to(p.file);
+    e.at("offset").get_to(p.offset);
+    e.at("size").get_to(p.size);
+    const nlohmann::json& crc = e.at("crc");
+    if (!crc.is_number_unsigned() || crc.get<std::uint64_t>() > 0xffffffffULL)
+      throw std::runtime_error(fmt::format("piece {} has a CRC-32 of {}", q, crc.dump()));
+    p.crc = std::uint32_t(crc.get<std::uint64_t>());
+    if (p.file != piece_file_name(list.id, q))
+      throw std::runtime_error(fmt::format("piece {} is named '{}'; expected '{}'", q, p.file,
+                                           piece_file_name(list.id, q)));
+    list.pieces.push_back(std::move(p));
+  }
+  return list;
+}
+
+// The pieces' boxes form a Cartesian grid that tiles the n^3 grid: along each axis their
+// bounds cut [0, n) into intervals, each piece is one interval per axis, and every
+// combination of intervals is exactly one piece.
+template <class Error>
+void check_tiling(const PieceList& list, int n, const Error& error) {
+  std::array<std::vector<int>, 3> cuts;
+  for (std::size_t q = 0; q < list.pieces.size(); ++q) {
+    const PieceEntry& p = list.pieces[q];
+    for (int a = 0; a < 3; ++a) {
+      if (p.offset[a] < 0 || p.size[a] < 1 || p.offset[a] > n - p.size[a])
+        throw error(fmt::format("piece {} (offset {} {} {}, size {} {} {}) is not inside the "
+                                "{}^3 grid",
+                                q, p.offset[0], p.offset[1], p.offset[2], p.size[0], p.size[1],
+                                p.size[2], n));
+      cuts[a].push_back(p.offset[a]);
+      cuts[a].push_back(p.offset[a] + p.size[a]);
+    }
+  }
+  std::size_t cells = 1;
+  for (auto& c : cuts) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    cells *= c.size() - 1;
+  }
+  std::vector<std::array<std::size_t, 3>> at;
+  for (std::size_t q = 0; q < list.pieces.size(); ++q) {
+    const PieceEntry& p = list.pieces[q];
+    std::array<std::size_t, 3> index{};
+    for (int a = 0; a < 3; ++a) {
+      const auto& c = cuts[a];
+      const std::size_t lo = std::size_t(std::lower_bound(c.begin(), c.end(), p.offset[a]) - c.begin());
+      if (lo + 1 >= c.size() || c[lo + 1] != p.offset[a] + p.size[a])
+        throw error(fmt::format("piece {} spans more than one of the pieces' intervals along "
+                                "axis {}; the pieces do not form a grid of boxes",
+                                q, a));
+      index[a] = lo;
+    }
+    at.push_back(index);
+  }
+  std::sort(at.begin(), at.end());
+  const bool repeated = std::adjacent_find(at.begin(), at.end()) != at.end();
+  if (cuts[0].front() != 0 || cuts[1].front() != 0 || cuts[2].front() != 0 || cuts[0].back() != n ||
+      cuts[1].back() != n || cuts[2].back() != n || repeated || at.size() != cells)
+    throw error(fmt::format("the {} pieces do not tile the {}^3 grid (a box missing or held "
+                            "twice)",
+                            list.pieces.size(), n));
+}
+
+// Keeps the values of global row (j, k), cells x0 .. x0+len-1, that x's block holds.
+void keep_row(Field& x, const double* row, int x0, int j, int k, int len) {
+  const auto& o = x.offset();
+  const int lj = j - o[1], lk = k - o[2];
+  if (lj < 0 || lj >= x.ny() || lk < 0 || lk >= x.nz()) return;
+  const int i0 = std::max(x0, o[0]), i1 = std::min(x0 + len, o[0] + x.nx());
+  if (i1 <= i0) return;
+  std::memcpy(&x(i0 - o[0], lj, lk), row + (i0 - x0), sizeof(double) * std::size_t(i1 - i0));
+}
+
+// Reads piece p (file `path`) of the checkpoint `name` and keeps what the targets' block holds.
+void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uint64_t id, int n,
+                const std::vector<std::pair<const char*, Field*>>& expected,
+                const std::vector<Field*>& targets, const std::string& name) {
+  auto error = [&](const std::string& what) {
+    return CheckpointError(fmt::format("{}: piece '{}': {}", name, path.string(), what));
+  };
+  std::unique_ptr<FileSource> in;
+  try {
+    in = std::make_unique<FileSource>(path);
+  } catch (const std::exception&) {
+    throw error("missing or unreadable");
+  }
+  const std::uint64_t cells = std::uint64_t(p.size[0]) * p.size[1] * p.size[2];
+  const std::uint64_t want =
+      kPiecePreambleBytes + cells * sizeof(double) * expected.size() + kTrailerBytes;
+  if (in->size() != want)
+    throw error(fmt::format("{} bytes, but the header describes {} (truncated or padded)",
+                            in->size(), want));
+  std::array<unsigned char, kPiecePreambleBytes> pre{};
+  in->read(pre.data(), pre.size());
+  std::uint32_t crc = crc32_of(0, pre.data(), pre.size());
+  std::array<char, 8> magic{};
+  std::uint32_t format = 0, count = 0;
+  std::uint64_t piece_id = 0;
+  std::int32_t piece_n = 0;
+  std::array<std::int32_t, 3> offset{}, size{};
+  const unsigned char* q = pre.data();
+  auto take = [&](void* to, std::size_t bytes) {
+    std::memcpy(to, q, bytes);
+    q += bytes;
+  };
+  take(magic.data(), 8);
+  take(&format, 4);
+  take(&piece_id, 8);
+  take(&piece_n, 4);
+  take(offset.data(), 12);
+  take(size.data(), 12);
+  take(&count, 4);
+  if (magic != kPieceMagic) throw error("not a cmcsurf checkpoint piece (no CMCSCPRT signature)");
+  if (format != std::uint32_t(kCheckpointPiecesFormat) || piece_id != id)
+    throw error(fmt::format("it belongs to another checkpoint (format {}, id {:016x}; the header "
+                            "wants format {}, id {:016x})",
+                            format, piece_id, kCheckpointPiecesFormat, id));
+  if (piece_n != n || offset != p.offset || size != p.size || count != expected.size())
+    throw error(fmt::format("it holds {} field(s) on offset {} {} {}, size {} {} {} of a {}^3 grid; "
+                            "the header wants {} on offset {} {} {}, size {} {} {} of {}^3",
+                            count, offset[0], offset[1], offset[2], size[0], size[1], size[2],
+                            piece_n, expected.size(), p.offset[0], p.offset[1], p.offset[2],
+                            p.size[0], p.size[1], p.size[2], n));
+  std::vector<double> row(std::size_t(p.size[0]), 0.0);
+  for (std::size_t f = 0; f < expected.size(); ++f)
+    for (int k = 0; k < p.size[2]; ++k)
+      for (int j = 0; j < p.size[1]; ++j) {
+        in->read(row.data(), row.size() * sizeof(double));
+        crc = crc32_of(crc, row.data(), row.size() * sizeof(double));
+        for (int i = 0; i < p.size[0]; ++i)
+          if (!std::isfinite(row[std::size_t(i)]))
+            throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
+                                    expected[f].first, p.offset[0] + i, p.offset[1] + j,
+                                    p.offset[2] + k));
+        keep_row(*targets[f], row.data(), p.offset[0], p.offset[1] + j, p.offset[2] + k,
+                 p.size[0]);
+      }
+  const auto piece_crc = get<std::uint32_t>(*in);
+  std::array<char, 8> end{};
+  in->read(end.data(), end.size());
+  if (piece_crc != crc || end != kEndMagic)
+    throw error("its checksum does not match (the piece is corrupted)");
+  if (crc != p.crc)
+    throw error(fmt::format("its checksum {:08x} is not the {:08x} the header records (a piece "
+                            "of another checkpoint)",
+                            crc, p.crc));
+}
+
+// `file`: the checkpoint's path (its pieces lie beside it), null for bytes in memory.
+CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std::string& name,
+                     const std::filesystem::path* file) {
   auto error = [&](const std::string& what) {
     return CheckpointError(fmt::format("{}: {}", name, what));
   };
@@ -209,9 +406,12 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
   in.read(magic.data(), magic.size());
   if (magic != kMagic) throw error("not a cmcsurf checkpoint (no CMCSCKPT signature)");
   const auto format = get<std::uint32_t>(in);
-  if (format != std::uint32_t(kCheckpointFormat))
-    throw error(fmt::format("checkpoint format {}; this cmcsurf reads format {}", format,
-                            kCheckpointFormat));
+  if (format != std::uint32_t(kCheckpointFormat) && format != std::uint32_t(kCheckpointPiecesFormat))
+    throw error(fmt::format("checkpoint format {}; this cmcsurf reads formats {} and {}", format,
+                            kCheckpointFormat, kCheckpointPiecesFormat));
+  const bool pieces = format == std::uint32_t(kCheckpointPiecesFormat);
+  if (pieces && !file)
+    throw error("a checkpoint in pieces (format 5) is read from its folder, not from memory");
   const auto header_crc = get<std::uint32_t>(in);
   const auto header_bytes = get<std::uint64_t>(in);
   if (header_bytes == 0) throw error("empty header");
@@ -225,6 +425,7 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
 
   CheckpointFile f;
   std::vector<std::pair<std::string, long long>> fields;
+  PieceList piece_list;
   try {
     const nlohmann::json h = nlohmann::json::from_cbor(header);
     h.at("version").get_to(f.version);
@@ -245,6 +446,7 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     result_from_json(h.at("result"), c.result);
     for (const nlohmann::json& fj : h.at("fields"))
       fields.emplace_back(fj.at("name").get<std::string>(), fj.at("n").get<long long>());
+    if (pieces) piece_list = read_piece_list(h.at("pieces"));
   } catch (const std::exception& e) {  // nlohmann's parse, type and key errors
     throw error(fmt::format("the header is not a valid checkpoint header: {}", e.what()));
   }
@@ -281,42 +483,76 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
       throw error(fmt::format("field {} is '{}' on {}^3; expected '{}' on {}^3", i,
                               fields[i].first, fields[i].second, expected[i].first, n));
   const std::uint64_t cells = std::uint64_t(n) * n * n;
-  const std::uint64_t data_bytes = cells * sizeof(double) * fields.size();
+  const std::uint64_t data_bytes = pieces ? 0 : cells * sizeof(double) * fields.size();
   const std::uint64_t want = kPreambleBytes + header_bytes + data_bytes + kTrailerBytes;
   if (size != want)
     throw error(fmt::format("{} bytes, but its header describes {} (truncated or padded)", size,
                             want));
+  if (pieces) check_tiling(piece_list, n, error);
 
-  std::uint32_t crc = 0;
-  std::vector<double> row(std::size_t(n), 0.0);
+  // Whole fields, or this process's blocks (left empty where the grid does not split).
+  const std::shared_ptr<const Decomposition>& d = options.decomposition;
+  const bool split = d && d->distributed();
+  if (split && !d->splits(n)) return f;
   for (auto& [field_name, field] : expected) {
-    *field = Field(n, field_name == std::string("phi") ? 2 : 1);
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j) {
-        in.read(row.data(), row.size() * sizeof(double));
-        crc = crc32_of(crc, row.data(), row.size() * sizeof(double));
-        for (int i = 0; i < n; ++i) {
-          if (!std::isfinite(row[std::size_t(i)]))
-            throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
-                                    field_name, i, j, k));
-          (*field)(i, j, k) = row[std::size_t(i)];
-        }
-      }
-    field->exchange_halo();
+    const int ghost = field_name == std::string("phi") ? 2 : 1;
+    *field = split ? Field(n, ghost, d) : Field(n, ghost);
   }
-  const auto data_crc = get<std::uint32_t>(in);
-  std::array<char, 8> end{};
-  in.read(end.data(), end.size());
-  if (data_crc != crc || end != kEndMagic)
-    throw error("the fields' checksum does not match (the file is corrupted)");
+  std::vector<Field*> targets;
+  for (auto& e : expected) targets.push_back(e.second);
+  std::vector<double> row;
+  if (!pieces) {
+    // Every row is read (the checksum covers them all); those of the block are kept.
+    std::uint32_t crc = 0;
+    row.assign(std::size_t(n), 0.0);
+    for (std::size_t q = 0; q < expected.size(); ++q) {
+      Field& x = *targets[q];
+      for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j) {
+          in.read(row.data(), row.size() * sizeof(double));
+          crc = crc32_of(crc, row.data(), row.size() * sizeof(double));
+          for (int i = 0; i < n; ++i)
+            if (!std::isfinite(row[std::size_t(i)]))
+              throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
+                                      expected[q].first, i, j, k));
+          keep_row(x, row.data(), 0, j, k, n);
+        }
+    }
+    const auto data_crc = get<std::uint32_t>(in);
+    std::array<char, 8> end{};
+    in.read(end.data(), end.size());
+    if (data_crc != crc || end != kEndMagic)
+      throw error("the fields' checksum does not match (the file is corrupted)");
+  } else {
+    // The trailer of the (field-less) file, then the pieces that overlap this process's block.
+    const auto data_crc = get<std::uint32_t>(in);
+    std::array<char, 8> end{};
+    in.read(end.data(), end.size());
+    if (data_crc != 0 || end != kEndMagic)
+      throw error("the fields' checksum does not match (the file is corrupted)");
+    const Field& block = *targets[0];
+    const std::filesystem::path dir = checkpoint_piece_dir(*file);
+    for (std::size_t q = 0; q < piece_list.pieces.size(); ++q) {
+      const PieceEntry& p = piece_list.pieces[q];
+      bool overlaps = true;
+      for (int a = 0; a < 3; ++a)
+        overlaps = overlaps && p.offset[a] < block.offset()[a] + block.size()[a] &&
+                   block.offset()[a] < p.offset[a] + p.size[a];
+      if (overlaps)
+        read_piece(dir / p.file, p, piece_list.id, n, expected, targets, name);
+    }
+  }
+  if (!split)
+    for (Field* field : targets) field->exchange_halo();
   return f;
 }
 
 }  // namespace
 
-void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& params,
-                      const Checkpoint& c, const nlohmann::json& outputs) {
-  const std::vector<NamedField> fields = fields_of(c);
+namespace {
+
+nlohmann::json header_json(const nlohmann::json& params, const Checkpoint& c,
+                           const nlohmann::json& outputs, const std::vector<NamedField>& fields) {
   nlohmann::json h;
   h["version"] = CMCSURF_VERSION;
   h["build"] = build_identity();
@@ -332,19 +568,19 @@ void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& p
                   {"prev_dt", c.stepper.prev_dt}};
   h["result"] = result_json(c.result);
   nlohmann::json list = nlohmann::json::array();
-  for (const NamedField& f : fields) {
-    if (!f.field->whole() || f.field->n() != c.cursor.grid)
-      throw std::logic_error(fmt::format("write_checkpoint: field {} is not the whole {}^3 grid",
-                                         f.name, c.cursor.grid));
-    list.push_back({{"name", f.name}, {"n", f.field->n()}});
-  }
+  for (const NamedField& f : fields) list.push_back({{"name", f.name}, {"n", f.field->n()}});
   h["fields"] = list;
-  const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);
+  return h;
+}
 
+// The container: preamble, header, the fields' interiors (none for format 5), trailer.
+void write_container(const std::filesystem::path& path, int format, const nlohmann::json& h,
+                     const std::vector<NamedField>& fields) {
+  const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);
   AtomicWriter w(path);
   std::ostream& out = w.stream();
   out.write(kMagic.data(), kMagic.size());
-  put(out, std::uint32_t(kCheckpointFormat));
+  put(out, std::uint32_t(format));
   put(out, crc32_of(0, header.data(), header.size()));
   put(out, std::uint64_t(header.size()));
   out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
@@ -364,12 +600,159 @@ void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& p
   w.commit();
 }
 
+// One process's piece (the layout in checkpoint.h); returns its CRC-32.
+std::uint32_t write_piece(const std::filesystem::path& path, std::uint64_t id,
+                          const std::vector<NamedField>& fields) {
+  const Field& first = *fields[0].field;
+  std::array<unsigned char, kPiecePreambleBytes> pre{};
+  unsigned char* q = pre.data();
+  auto add = [&](const void* from, std::size_t bytes) {
+    std::memcpy(q, from, bytes);
+    q += bytes;
+  };
+  const auto format = std::uint32_t(kCheckpointPiecesFormat);
+  const auto n = std::int32_t(first.n());
+  const auto count = std::uint32_t(fields.size());
+  add(kPieceMagic.data(), 8);
+  add(&format, 4);
+  add(&id, 8);
+  add(&n, 4);
+  add(first.offset().data(), 12);
+  add(first.size().data(), 12);
+  add(&count, 4);
+  AtomicWriter w(path);
+  std::ostream& out = w.stream();
+  out.write(reinterpret_cast<const char*>(pre.data()), std::streamsize(pre.size()));
+  std::uint32_t crc = crc32_of(0, pre.data(), pre.size());
+  for (const NamedField& f : fields) {
+    const Field& x = *f.field;
+    const std::streamsize row = std::streamsize(x.nx() * sizeof(double));
+    for (int k = 0; k < x.nz(); ++k)
+      for (int j = 0; j < x.ny(); ++j) {
+        const double* p = &x(0, j, k);
+        crc = crc32_of(crc, p, std::size_t(row));
+        out.write(reinterpret_cast<const char*>(p), row);
+      }
+  }
+  put(out, crc);
+  out.write(kEndMagic.data(), kEndMagic.size());
+  w.commit();
+  return crc;
+}
+
+// Format 5 (collective over phi's decomposition; one process when phi is whole).
+void write_pieces(const std::filesystem::path& path, const nlohmann::json& params,
+                  const Checkpoint& c, const nlohmann::json& outputs,
+                  const std::vector<NamedField>& fields) {
+  const Decomposition* d = c.result.phi.decomposition();
+  const int rank = d ? d->rank() : 0, ranks = d ? d->ranks() : 1;
+  // A new id for every checkpoint: its pieces never overwrite those the current file names.
+  double id_halves[2] = {0.0, 0.0};
+  if (rank == 0) {
+    std::random_device random;
+    const std::uint64_t id =
+        ((std::uint64_t(random()) << 32) | random()) ^
+        std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count());
+    id_halves[0] = double(id >> 32);
+    id_halves[1] = double(id & 0xffffffffULL);
+  }
+  if (d) d->broadcast(id_halves, 2);
+  const std::uint64_t id = (std::uint64_t(id_halves[0]) << 32) | std::uint64_t(id_halves[1]);
+  const std::filesystem::path dir = checkpoint_piece_dir(path);
+  agree_or_throw(d, rank != 0 ? "" : error_of([&] { ensure_directory(dir); }));
+
+  const std::filesystem::path piece = dir / piece_file_name(id, std::size_t(rank));
+  double crc = 0.0;
+  std::string error = error_of([&] { crc = double(write_piece(piece, id, fields)); });
+  const auto remove_piece = [&] {
+    std::error_code ec;
+    std::filesystem::remove(piece, ec);  // best effort: a piece no header names
+  };
+  try {
+    agree_or_throw(d, error);
+  } catch (...) {
+    remove_piece();
+    throw;
+  }
+  std::vector<double> crcs(std::size_t(rank == 0 ? ranks : 1), crc);
+  if (d) d->gather(&crc, 1, crcs.data());
+  if (rank == 0)
+    error = error_of([&] {
+      PieceList list;
+      list.id = id;
+      const int n = c.result.phi.n();
+      for (int r = 0; r < ranks; ++r) {
+        const Block b = d ? d->block_of(r, n) : Block{n, {n, n, n}, {0, 0, 0}};
+        list.pieces.push_back({piece_file_name(id, std::size_t(r)), b.offset, b.size,
+                               std::uint32_t(crcs[std::size_t(r)])});
+      }
+      nlohmann::json h = header_json(params, c, outputs, fields);
+      h["pieces"] = piece_list_json(list);
+      write_container(path, kCheckpointPiecesFormat, h, {});
+    });
+  try {
+    agree_or_throw(d, error);
+  } catch (...) {
+    remove_piece();
+    throw;
+  }
+  // The new checkpoint is in place: the pieces of the one it replaced go, with any left by a
+  // failed or killed write (every writer of this one is done).
+  if (rank == 0) {
+    const std::string mine = fmt::format("{:016x}-r", id);
+    std::error_code ec;
+    std::vector<std::filesystem::path> stale;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+      if (!it->path().filename().string().starts_with(mine)) stale.push_back(it->path());
+    for (const auto& p : stale) std::filesystem::remove(p, ec);
+  }
+}
+
+}  // namespace
+
+std::filesystem::path checkpoint_piece_dir(const std::filesystem::path& path) {
+  std::filesystem::path dir = path;
+  dir.replace_extension(".parts");
+  return dir;
+}
+
+void remove_checkpoint(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  if (ec)
+    throw std::runtime_error(fmt::format("cannot remove '{}': {}", path.string(), ec.message()));
+  const std::filesystem::path dir = checkpoint_piece_dir(path);
+  std::filesystem::remove_all(dir, ec);
+  if (ec)
+    throw std::runtime_error(fmt::format("cannot remove '{}': {}", dir.string(), ec.message()));
+}
+
+void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& params,
+                      const Checkpoint& c, const nlohmann::json& outputs, bool in_pieces) {
+  const std::vector<NamedField> fields = fields_of(c);
+  const Field& phi = c.result.phi;
+  for (const NamedField& f : fields)
+    if (f.field->n() != c.cursor.grid || f.field->offset() != phi.offset() ||
+        f.field->size() != phi.size())
+      throw std::logic_error(fmt::format("write_checkpoint: field {} is not on phi's block of "
+                                         "the {}^3 grid",
+                                         f.name, c.cursor.grid));
+  const Decomposition* d = phi.decomposition();
+  if ((d && d->distributed()) || in_pieces) {
+    write_pieces(path, params, c, outputs, fields);
+    return;
+  }
+  if (!phi.whole())
+    throw std::logic_error("write_checkpoint: phi is a block without its decomposition");
+  write_container(path, kCheckpointFormat, header_json(params, c, outputs, fields), fields);
+}
+
 CheckpointFile read_checkpoint(const std::filesystem::path& path,
                                const CheckpointReadOptions& options) {
   std::unique_ptr<FileSource> in;
   try {
     in = std::make_unique<FileSource>(path);
-    return parse(*in, options, path.string());
+    return parse(*in, options, path.string(), &path);
   } catch (const CheckpointError&) {
     throw;
   } catch (const std::exception& e) {
@@ -381,7 +764,7 @@ CheckpointFile parse_checkpoint(std::span<const unsigned char> bytes,
                                 const CheckpointReadOptions& options, const std::string& name) {
   SpanSource in(bytes);
   try {
-    return parse(in, options, name);
+    return parse(in, options, name, nullptr);
   } catch (const CheckpointError&) {
     throw;
   } catch (const std::exception& e) {

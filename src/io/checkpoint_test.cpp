@@ -1,8 +1,10 @@
 #include "io/checkpoint.h"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -176,6 +178,136 @@ TEST(Checkpoint, ReadsFromAFileAndNamesIt) {
   std::ofstream(tmp / "c.bin", std::ios::binary)
       .write(reinterpret_cast<const char*>(sample().bytes.data()), std::streamsize(sample().bytes.size()));
   EXPECT_EQ(read_checkpoint(tmp / "c.bin").checkpoint.step, 11);
+}
+
+// Format 5 on one process (the whole grid as one piece; tests/mpi/pvti_test.cpp writes one per
+// process): the same bits back, a new id per checkpoint with the old pieces removed, and damaged,
+// stale, missing or misnamed pieces refused by name.
+TEST(Checkpoint, InPiecesKeepsEveryBitAndRefusesBadPieces) {
+  const Sample& s = sample();
+  TempDir tmp("cmcsurf-ckpt");
+  const std::filesystem::path file = tmp / "checkpoint.bin";
+  const std::filesystem::path parts = checkpoint_piece_dir(file);
+  EXPECT_EQ(parts, tmp / "checkpoint.parts");
+  auto pieces = [&] {
+    std::vector<std::filesystem::path> v;
+    for (const auto& e : std::filesystem::directory_iterator(parts)) v.push_back(e.path());
+    return v;
+  };
+  auto error = [&] {
+    try {
+      read_checkpoint(file);
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const nlohmann::json params = params_json(s.params);
+  write_checkpoint(file, params, s.checkpoint, nlohmann::json::object(), true);
+  ASSERT_EQ(pieces().size(), 1u);
+  const std::filesystem::path first = pieces()[0];
+  std::ifstream in(file, std::ios::binary);
+  std::vector<unsigned char> bytes(std::istreambuf_iterator<char>(in), {});
+  EXPECT_EQ(bytes[8], 5);  // the format
+  const CheckpointFile f = read_checkpoint(file);
+  const Checkpoint& a = s.checkpoint;
+  const Checkpoint& b = f.checkpoint;
+  EXPECT_EQ(b.step, a.step);
+  EXPECT_EQ(b.result.history.size(), a.result.history.size());
+  for (auto [x, y] : {std::pair{&a.result.phi, &b.result.phi}, {&a.stepper.nu, &b.stepper.nu},
+                      {&a.stepper.prev_phi, &b.stepper.prev_phi},
+                      {&a.stepper.prev_nu, &b.stepper.prev_nu}}) {
+    for_each_cell(*x, [&](int i, int j, int k) { ASSERT_EQ((*x)(i, j, k), (*y)(i, j, k)); });
+    EXPECT_TRUE(halo_is_current(*y));
+  }
+  EXPECT_NE(error_of(bytes).find("read from its folder, not from memory"), std::string::npos);
+
+  // The next checkpoint takes a new id and removes the pieces of the one it replaced.
+  const std::string old_piece = [&] {
+    std::ifstream p(first, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(p), {});
+  }();
+  write_checkpoint(file, params, s.checkpoint, nlohmann::json::object(), true);
+  ASSERT_EQ(pieces().size(), 1u);
+  const std::filesystem::path piece = pieces()[0];
+  EXPECT_NE(piece, first);
+  EXPECT_EQ(error(), "");
+  const std::string good_piece = [&] {
+    std::ifstream p(piece, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(p), {});
+  }();
+  auto with_piece = [&](const std::string& contents) {
+    std::ofstream(piece, std::ios::binary) << contents;
+    return error();
+  };
+  EXPECT_NE(with_piece(old_piece).find("belongs to another checkpoint"), std::string::npos);
+  std::string damaged = good_piece;
+  damaged[100] ^= 1;
+  const std::string why = with_piece(damaged);
+  EXPECT_NE(why.find(piece.filename().string()), std::string::npos) << why;
+  EXPECT_NE(why.find("the piece is corrupted"), std::string::npos) << why;
+  EXPECT_NE(with_piece(good_piece.substr(0, 200)).find("truncated or padded"), std::string::npos);
+  std::filesystem::remove(piece);
+  EXPECT_NE(error().find("missing or unreadable"), std::string::npos);
+  EXPECT_EQ(with_piece(good_piece), "");
+
+  // Valid checksums around a hostile list of pieces.
+  auto with_list = [&](const std::function<void(nlohmann::json&)>& edit) {
+    // The header of the file on disk (the second write, whose id names `piece`), edited.
+    std::ifstream now(file, std::ios::binary);
+    std::vector<unsigned char> current(std::istreambuf_iterator<char>(now), {});
+    std::uint64_t length = 0;
+    std::memcpy(&length, current.data() + 16, 8);
+    nlohmann::json h =
+        nlohmann::json::from_cbor(current.begin() + 24, current.begin() + 24 + long(length));
+    edit(h["pieces"]);
+    const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);
+    std::string out(current.begin(), current.begin() + 24);
+    const std::uint32_t crc = std::uint32_t(::crc32_z(0, header.data(), header.size()));
+    const std::uint64_t size = header.size();
+    std::memcpy(out.data() + 12, &crc, 4);
+    std::memcpy(out.data() + 16, &size, 8);
+    out.append(header.begin(), header.end());
+    out.append(current.end() - 12, current.end());
+    std::filesystem::path edited = tmp / "edited";
+    std::filesystem::create_directories(edited);
+    std::filesystem::copy(parts, edited / "checkpoint.parts",
+                          std::filesystem::copy_options::overwrite_existing |
+                              std::filesystem::copy_options::recursive);
+    std::ofstream(edited / "checkpoint.bin", std::ios::binary) << out;
+    try {
+      read_checkpoint(edited / "checkpoint.bin");
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(with_list([](nlohmann::json&) {}), "");
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["list"][0]["file"] = "../../x.bin"; })
+                .find("is named '../../x.bin'"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["list"] = nlohmann::json::array(); })
+                .find("1 to"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["id"] = "../x"; }).find("16 hex digits"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["list"][0]["size"] = {16, 16, 8}; })
+                .find("do not tile the 16^3 grid"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["list"][0]["offset"] = {1, 0, 0}; })
+                .find("is not inside the 16^3 grid"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) {
+              p["list"][0]["crc"] = p["list"][0]["crc"].get<std::uint32_t>() ^ 1u;
+            }).find("the header records"),
+            std::string::npos);
+  EXPECT_NE(with_list([](nlohmann::json& p) { p["list"][0]["crc"] = -1; }).find("CRC-32"),
+            std::string::npos);
+
+  remove_checkpoint(file);
+  EXPECT_FALSE(std::filesystem::exists(file));
+  EXPECT_FALSE(std::filesystem::exists(parts));
+  remove_checkpoint(file);  // nothing there: fine
 }
 
 }  // namespace
