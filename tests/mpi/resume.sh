@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Under mpirun, SIGTERM to the ranks stops every rank at the same step (one decision, shared),
-# rank 0 writes the gathered checkpoint, mpirun exits 143, and the printed
+# every rank writes its piece of the checkpoint (format 5: checkpoint.bin and
+# checkpoint.parts/, no whole grid on any rank), mpirun exits 143, and the printed
 # `mpirun -np P cmcsurf run --resume` ends on the uninterrupted mpirun run's report and field
 # bit for bit (docs/reliability.md): a --fast run with a coarse level (32^3 from 16^3, split
-# over the P ranks on both grids) stopped on the coarse grid and on the finest.
+# over the P ranks on both grids) stopped on the coarse grid and on the finest. A copy with one
+# piece damaged is refused by every rank (exit 2, the piece named).
 # Usage: resume.sh <cmcsurf> <ranks> <mpiexec>
 set -u
 bin="$1"
@@ -41,6 +43,21 @@ assert r['checkpoint']['grid'] == $grid, r['checkpoint']
 assert 'mpirun -np $np' in r['resume'], r['resume']
 " || { echo "FAIL: interrupted report (wanted a stop on $grid^3)"; cat "$out.log"; fail=1; }
   [ -s "$out/checkpoint.bin" ] || { echo "FAIL: no checkpoint"; fail=1; }
+  pieces=("$out"/checkpoint.parts/*-r*.bin)
+  [ ${#pieces[@]} = "$np" ] || { echo "FAIL: ${#pieces[@]} checkpoint pieces, want $np"; fail=1; }
+
+  # A flipped byte in the last piece (read by one rank only): every rank refuses, naming it.
+  cp -r "$out" "$out.bad"
+  bad=("$out.bad"/checkpoint.parts/*-r*.bin)
+  bad="${bad[$((np - 1))]}"
+  python3 -c "
+import sys; p = sys.argv[1]; b = bytearray(open(p, 'rb').read()); b[60] ^= 1
+open(p, 'wb').write(b)" "$bad"
+  mpi run --resume "$out.bad" --quiet 2>"$out.bad.log"
+  rc=$?
+  [ $rc = 2 ] || { echo "FAIL: resume of a damaged piece exited $rc, want 2"; fail=1; }
+  grep -q "$(basename "$bad").*checksum" "$out.bad.log" ||
+    { echo "FAIL: the damaged piece is not named"; cat "$out.bad.log"; fail=1; }
 
   # The printed command (with --oversubscribe, as this machine has fewer cores than ranks).
   hint=$(sed -n 's/^resume with: //p' "$out.log")
@@ -56,14 +73,21 @@ a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
 timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
           "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
           "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "mpi_rank0"}
+          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "mpi_rank0",
+          "peak_memory_bytes_per_rank", "peak_memory_bytes_max_rank"}
 diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"
 assert b["coarse_steps"] > 0 and b["resumed_from_step"] > 0
 PY
-  cmp -s <(grep -av seconds "$work/whole/field.vti") <(grep -av seconds "$out/field.vti") ||
-    { echo "FAIL: $out/field.vti differs"; fail=1; }
+  # field.vti, or field.pvti and its pieces (io/pvti.h): the same bytes.
+  for f in field.vti field.pvti field/piece_*.vti; do
+    [ -e "$work/whole/$f" ] || [ -e "$out/$f" ] || continue
+    cmp -s <(grep -av seconds "$work/whole/$f") <(grep -av seconds "$out/$f") ||
+      { echo "FAIL: $out/$f differs"; fail=1; }
+  done
+  [ -e "$out/field.vti" ] || [ -e "$out/field.pvti" ] || { echo "FAIL: no field written"; fail=1; }
   [ ! -e "$out/checkpoint.bin" ] || { echo "FAIL: checkpoint left after completion"; fail=1; }
+  [ ! -e "$out/checkpoint.parts" ] || { echo "FAIL: checkpoint pieces left after completion"; fail=1; }
 done
 [ $fail = 0 ] && echo "mpi resume (np $np): all passed"
 exit $fail

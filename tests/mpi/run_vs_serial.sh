@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # mpirun -np P cmcsurf run against the same run on one process: same steps and V-cycles,
-# area, volume fraction and mass to round-off; outputs written once by rank 0; field.vti
-# readable by `cmcsurf mesh`; bad input under mpirun exits 2 on every rank, writing nothing.
+# area, volume fraction and mass to round-off; outputs written once (the field: one piece per
+# rank, field.pvti); the field readable by `cmcsurf mesh`; bad input under mpirun exits 2 on every rank, writing nothing.
 # Usage: run_vs_serial.sh <cmcsurf> <ranks> <mpiexec>
 set -u
 bin="$1"
@@ -22,9 +22,18 @@ args=(run --surface G --volume-fraction 0.3 --grid 16 --max-steps 12 --tol 1e-30
 "$bin" "${args[@]}" --out "$work/serial" || { echo "FAIL: serial run"; exit 1; }
 mpi "${args[@]}" --mesh stl --out "$work/mpi" >"$work/stdout" 2>"$work/stderr" \
   || { echo "FAIL: mpirun -np $np run"; cat "$work/stderr"; exit 1; }
-for f in report.json history.csv field.vti curvature_histogram.csv surface.stl; do
+for f in report.json history.csv curvature_histogram.csv surface.stl; do
   test -s "$work/mpi/$f" || { echo "FAIL: mpi run lacks $f"; fail=1; }
 done
+# The field: one piece per rank under field/ and field.pvti (io/pvti.h), or field.vti.
+if [ -e "$work/mpi/field.pvti" ]; then
+  [ "$(ls "$work/mpi/field" | grep -c '^piece_[0-9]*\.vti$')" = "$np" ] &&
+    [ "$(grep -c '<Piece ' "$work/mpi/field.pvti")" = "$np" ] ||
+    { echo "FAIL: field.pvti without one piece per rank"; fail=1; }
+  [ ! -e "$work/mpi/field.vti" ] || { echo "FAIL: both field.vti and field.pvti"; fail=1; }
+else
+  test -s "$work/mpi/field.vti" || { echo "FAIL: mpi run lacks field.vti or field.pvti"; fail=1; }
+fi
 python3 - "$work/serial/report.json" "$work/mpi/report.json" "$np" <<'PY' || fail=1
 import json, sys
 s, m, np = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
@@ -67,7 +76,8 @@ for b in bad: print("FAIL: fast mode under mpirun differs in", b)
 sys.exit(1 if bad else 0)
 PY
 
-# Refused under mpirun: lexicographic ordering, commands other than run; exit 2, nothing written.
+# Refused under mpirun: lexicographic ordering, commands other than run and sweep
+# (tests/mpi/sweep_groups.sh); exit 2, nothing written.
 expect_usage() {
   local name="$1" opt="$2"; shift 2
   mpi "$@" --out "$work/$name" >"$work/stdout" 2>"$work/stderr"
@@ -79,5 +89,5 @@ expect_usage() {
 }
 expect_usage lex "--smoother" "${args[@]}" --smoother lex
 expect_usage mgtol "--mg-tol" "${args[@]}" --mg-tol -1
-expect_usage sweep "mpirun" sweep --surface G --grid 16
+expect_usage graded "mpirun" graded --members a,b --from-fraction 0.3 --to-fraction 0.6
 exit $fail
