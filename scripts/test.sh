@@ -42,7 +42,10 @@ if [ "$asan_build" != none ]; then
   asan_slow+='|Pipeline\.FastCombinationMatchesPaperFaithfulRun'
   asan_slow+='|Sweep\.BalancedSurfaceIsSymmetricInVolumeFraction'
   asan_slow+='|cli\.checkpoint_resume_stages|cli\.checkpoint_resume_fast|cli\.sweep_resume_gallery'
-  asan_slow+='|cli\.report_page)$'
+  asan_slow+='|cli\.report_page'
+  # Minutes each under the sanitizers on 2 cores (the release pass above runs them all):
+  asan_slow+='|cli\.sweep_resume|cli\.scaffold_modes|cli\.scaffold_outputs|cli\.verify_quick'
+  asan_slow+='|Part\.DecimationKeepsTheSolid)$'
   ASAN_OPTIONS=abort_on_error=1 UBSAN_OPTIONS=abort_on_error=1:print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0" \
     ctest --test-dir "$asan_build" --output-on-failure -j 2 --timeout 600 -L 'unit|cli' \

@@ -15,7 +15,9 @@ args=(sweep --surface P --volume-fractions 0.3,0.4,0.5 --grid 32 --tol 1e-7 --co
 
 "$bin" "${args[@]}" --out "$work/cut" 2>"$work/cut.log" &
 pid=$!
-for _ in $(seq 1 1000); do
+# Until the second member has reached its volume constraint (however slow the build or the
+# machine: a sanitizer build on a loaded machine takes minutes for the first member).
+while kill -0 $pid 2>/dev/null; do
   grep -q "^\[2/3\] P alpha 0.4" "$work/cut.log" && grep -q "^volume " "$work/cut.log" && break
   sleep 0.01
 done
