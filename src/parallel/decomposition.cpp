@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -63,20 +64,9 @@ std::shared_ptr<const Decomposition> Decomposition::world() {
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   if (ranks == 1) return cached = self();
   auto d = std::make_shared<Decomposition>();
-  int cart_dims[3] = {0, 0, 0};  // MPI order: z (largest), y, x
-  MPI_Dims_create(ranks, 3, cart_dims);
-  const int periodic[3] = {1, 1, 1};
-  d->comm_ = std::make_shared<Comm>();
-  MPI_Cart_create(MPI_COMM_WORLD, 3, cart_dims, periodic, 0, &d->comm_->cart);
-  d->ranks_ = ranks;
-  MPI_Comm_rank(d->comm_->cart, &d->rank_);
-  for (int a = 0; a < 3; ++a) d->dims_[a] = cart_dims[2 - a];
-  d->coords_ = d->coords_of(d->rank_);
-  for (int a = 0; a < 3; ++a) {
-    int lo = 0, hi = 0;
-    MPI_Cart_shift(d->comm_->cart, 2 - a, 1, &lo, &hi);
-    d->neighbours_[a] = {lo, hi};
-  }
+  Comm all;  // a duplicate of MPI_COMM_WORLD, freed once the process grid is laid over it
+  MPI_Comm_dup(MPI_COMM_WORLD, &all.cart);
+  d->arrange(all);
   return cached = d;
 #else
   return self();
@@ -97,18 +87,23 @@ std::array<int, 3> Decomposition::coords_of(int rank) const {
   return c;
 }
 
-std::string Decomposition::check_grid(int n) const {
+namespace {
+// Decomposition::check_grid on a process grid of `ranks` processes, `dims` along x, y, z.
+std::string grid_problem(const std::array<int, 3>& dims, int ranks, int n) {
   for (int a = 0; a < 3; ++a) {
-    const int p = dims_[a];
+    const int p = dims[a];
     if (n % (2 * p) != 0 || n / p < kMinBlockCells)
       return fmt::format(
           "N = {} does not split into equal blocks of an even number (>= {}) of cells on the "
           "{} x {} x {} process grid of {} ranks: N must be a multiple of 2 x {} with N / {} >= "
           "{} along every axis; choose another N or another number of ranks",
-          n, kMinBlockCells, dims_[0], dims_[1], dims_[2], ranks_, p, p, kMinBlockCells);
+          n, kMinBlockCells, dims[0], dims[1], dims[2], ranks, p, p, kMinBlockCells);
   }
   return "";
 }
+}  // namespace
+
+std::string Decomposition::check_grid(int n) const { return grid_problem(dims_, ranks_, n); }
 
 Block Decomposition::block_of(int rank, int n) const {
   const std::array<int, 3> c = coords_of(rank);
@@ -294,6 +289,104 @@ std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& min
   }
 #endif
   return mine;
+}
+
+// --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+
+void Decomposition::arrange(const Comm& processes) {
+#ifdef CMCSURF_HAVE_MPI
+  MPI_Comm_size(processes.cart, &ranks_);
+  int cart_dims[3] = {0, 0, 0};  // MPI order: z (largest), y, x
+  MPI_Dims_create(ranks_, 3, cart_dims);
+  const int periodic[3] = {1, 1, 1};
+  comm_ = std::make_shared<Comm>();
+  MPI_Cart_create(processes.cart, 3, cart_dims, periodic, 0, &comm_->cart);
+  MPI_Comm_rank(comm_->cart, &rank_);
+  for (int a = 0; a < 3; ++a) dims_[a] = cart_dims[2 - a];
+  coords_ = coords_of(rank_);
+  for (int a = 0; a < 3; ++a) {
+    int lo = 0, hi = 0;
+    MPI_Cart_shift(comm_->cart, 2 - a, 1, &lo, &hi);
+    neighbours_[a] = {lo, hi};
+  }
+#else
+  (void)processes;
+#endif
+}
+
+ProcessGroup Decomposition::split(int groups) {
+  const auto world = Decomposition::world();
+  if (groups < 1 || world->ranks() % groups != 0)
+    throw std::invalid_argument(fmt::format("Decomposition::split: {} groups of {} processes",
+                                            groups, world->ranks()));
+  ProcessGroup g;
+  g.groups = groups;
+  const int size = world->ranks() / groups;
+  g.index = world->rank() / size;  // world()'s rank is the MPI_COMM_WORLD rank (no reordering)
+  g.decomposition = groups == 1 ? world : self();
+#ifdef CMCSURF_HAVE_MPI
+  if (groups > 1 && size > 1) {
+    auto d = std::make_shared<Decomposition>();
+    Comm members;  // freed once the group's process grid is laid over it
+    MPI_Comm_split(MPI_COMM_WORLD, g.index, world->rank(), &members.cart);
+    d->arrange(members);
+    g.decomposition = d;
+  }
+#endif
+  return g;
+}
+
+std::string Decomposition::check_grid_for(int ranks, int n) {
+  std::array<int, 3> dims{1, 1, 1};
+  if (ranks > 1) {
+#ifdef CMCSURF_HAVE_MPI
+    int cart_dims[3] = {0, 0, 0};
+    MPI_Dims_create(ranks, 3, cart_dims);
+    for (int a = 0; a < 3; ++a) dims[a] = cart_dims[2 - a];
+#else
+    throw std::logic_error("Decomposition::check_grid_for: several processes need MPI");
+#endif
+  }
+  return grid_problem(dims, ranks, n);
+}
+
+std::vector<std::string> gather_world_bytes(const std::string& mine) {
+#ifdef CMCSURF_HAVE_MPI
+  if (several_processes()) {
+    int ranks = 1, rank = 0;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
+      throw std::length_error("gather_world_bytes: more than 2 GiB from one process");
+    const int length = int(mine.size());
+    std::vector<int> lengths(std::size_t(ranks), 0), displs(std::size_t(ranks), 0);
+    // The lengths first, without spinning: rank 0 may wait here for groups still computing.
+    MPI_Request request;
+    MPI_Igather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
+    for (int done = 0;;) {
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      if (done) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    long long total = 0;
+    for (int r = 0; r < ranks; ++r) {
+      displs[std::size_t(r)] = int(total);
+      total += lengths[std::size_t(r)];
+      if (rank == 0 && total > std::numeric_limits<int>::max())
+        throw std::length_error("gather_world_bytes: more than 2 GiB in all");
+    }
+    std::string all(rank == 0 ? std::size_t(total) : 0, '\0');
+    MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), displs.data(),
+                MPI_CHAR, 0, MPI_COMM_WORLD);
+    std::vector<std::string> out;
+    if (rank == 0)
+      for (int r = 0; r < ranks; ++r)
+        out.push_back(all.substr(std::size_t(displs[std::size_t(r)]),
+                                 std::size_t(lengths[std::size_t(r)])));
+    return out;
+  }
+#endif
+  return {mine};
 }
 
 ParallelSession::ParallelSession(int* argc, char*** argv) {

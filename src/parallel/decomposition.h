@@ -34,6 +34,8 @@ struct CommStats {
   double seconds = 0.0;
 };
 
+struct ProcessGroup;  // below: a group of the world's processes (Decomposition::split)
+
 class Decomposition {
  public:
   // Every process of the run (MPI_COMM_WORLD) on a periodic process grid from MPI_Dims_create;
@@ -88,9 +90,20 @@ class Decomposition {
   // that rank (-1 for none).
   std::string first_error(const std::string& mine, int* rank = nullptr) const;
 
+  // --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+  // Splits the world's processes into `groups` groups of ranks() / groups consecutive world
+  // ranks, each on its own periodic process grid built as world()'s (a group of one process is
+  // self()). Collective over the world; `groups` must divide the world's rank count.
+  static ProcessGroup split(int groups);
+  // check_grid(n) on the process grid `ranks` processes get (MPI_Dims_create, as in world() and
+  // split()), without building it. ranks > 1 needs MPI.
+  static std::string check_grid_for(int ranks, int n);
+
  private:
   struct Comm;
   std::shared_ptr<Comm> comm_;  // null: a single process
+  // Lays this object's process grid over the processes of `processes` (collective over them).
+  void arrange(const Comm& processes);
   int ranks_ = 1;
   int rank_ = 0;
   std::array<int, 3> dims_{1, 1, 1};
@@ -110,6 +123,17 @@ struct NodeGather {
 NodeGather allgather_on_node(const std::vector<std::uint64_t>& mine);
 // ranks x mine.size(), in MPI_COMM_WORLD rank order (= Decomposition::world()'s rank).
 std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& mine);
+
+// --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+struct ProcessGroup {
+  int groups = 1;  // the world's processes form this many groups of equal size
+  int index = 0;   // this process's group: world ranks index * size .. (index + 1) * size - 1
+  std::shared_ptr<const Decomposition> decomposition;  // the group's processes
+};
+// Every process's bytes, in MPI_COMM_WORLD rank order, on world rank 0 (empty elsewhere), kept
+// out of any CommStats; rank 0 waits with short sleeps, so a process done early does not spin
+// while the others compute. Collective over the world; {mine} on one process.
+std::vector<std::string> gather_world_bytes(const std::string& mine);
 
 // MPI_Init / MPI_Finalize around main (nothing without MPI).
 class ParallelSession {
