@@ -214,9 +214,19 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
   const int count = int(params.surfaces.size() * params.fractions.size());
   int index = 0;
   for (std::size_t s = 0; s < params.surfaces.size(); ++s) {
-    Field previous;
+    Field previous;  // this process's block under a decomposition
     std::string previous_name;
     double previous_alpha = 0.0;
+    bool ran_here = false, elsewhere = false;  // members of this family here and elsewhere
+    auto keep = [&](const Field& phi, double alpha, const std::string& name) {
+      previous = Field(params.run.grid, 2, context.decomposition);
+      if (phi.whole() && !previous.whole())
+        take_block(phi, previous);  // a kept member's field.vti
+      else
+        copy_interior(phi, previous);
+      previous_name = name;
+      previous_alpha = alpha;
+    };
     for (double alpha : params.fractions) {
       SweepMember m;
       m.index = index++;
@@ -230,13 +240,15 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
       const bool continued = params.continuation && !previous_name.empty();
       m.started_from = continued ? previous_name : "nodal";
       MemberStart start = plan ? plan(m) : MemberStart{};
+      const bool here = start.kind != MemberStart::Kind::kElsewhere;
+      (here ? ran_here : elsewhere) = true;
+      if (params.continuation && ran_here && elsewhere)
+        throw std::logic_error(fmt::format(
+            "run_sweep: the family of {} is split between groups; continuation needs it whole",
+            m.surface));
+      if (!here) continue;
       if (start.kind == MemberStart::Kind::kSkip) {  // done before
-        if (params.continuation) {
-          previous = Field(params.run.grid, 2);
-          copy_interior(start.field, previous);
-          previous_name = m.name;
-          previous_alpha = alpha;
-        }
+        if (params.continuation) keep(start.field, alpha, m.name);
         continue;
       }
       if (starting) starting(m);
@@ -250,12 +262,7 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
         r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context)
                       : run_cmc(m.params, context);
       }
-      if (params.continuation) {
-        previous = Field(params.run.grid, 2);
-        copy_interior(r.phi, previous);
-        previous_name = m.name;
-        previous_alpha = alpha;
-      }
+      if (params.continuation) keep(r.phi, alpha, m.name);
       if (done) done(m, r);
     }
   }

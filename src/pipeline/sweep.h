@@ -66,10 +66,11 @@ CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
                                    const std::vector<CurvatureSample>* relaxed_samples = nullptr);
 
 // How a member starts when a sweep resumes (sweep --resume): from scratch, from its own
-// checkpoint, or not at all, its folder holding it complete; `field` is then its final phi,
-// which continues the family.
+// checkpoint, or not at all, its folder holding it complete; `field` is then its final phi
+// (whole grid), which continues the family. kElsewhere: another group of processes runs it
+// (a sweep across nodes); with continuation a group runs whole families, never part of one.
 struct MemberStart {
-  enum class Kind { kRun, kResume, kSkip };
+  enum class Kind { kRun, kResume, kSkip, kElsewhere };
   Kind kind = Kind::kRun;
   std::shared_ptr<const Checkpoint> checkpoint;  // kResume
   Field field;                                   // kSkip, with continuation
@@ -79,7 +80,8 @@ using PlanFn = std::function<MemberStart(const SweepMember&)>;
 // Runs every member, surfaces outermost, fractions in the given order. `plan` (may be empty:
 // every member runs) is asked first; `starting` is called before a member runs, `done` after
 // (it may keep or write the result; the field is only kept here for the next member's
-// continuation). A RunInterrupted from a member's run passes through.
+// continuation). A RunInterrupted from a member's run passes through. Under
+// context.decomposition every process of it calls this alike and gets its blocks.
 using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
                const MemberFn& done, const RunContext& context = {}, const PlanFn& plan = {});
