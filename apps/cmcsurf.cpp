@@ -44,9 +44,10 @@ int run_main(int argc, char** argv) {
   for (auto& [sub, fn] : commands) {
     if (!sub->parsed()) continue;
     try {
-      if (world->distributed() && sub->get_name() != "run")
+      if (world->distributed() && sub->get_name() != "run" && sub->get_name() != "sweep")
         throw UsageError(fmt::format(
-            "`cmcsurf {}` runs on one process; only `cmcsurf run` is decomposed over MPI ranks "
+            "`cmcsurf {}` runs on one process; only `cmcsurf run` (decomposed over the ranks) "
+            "and `cmcsurf sweep` (members side by side in groups of ranks) run under mpirun "
             "(started with {} ranks): run it without mpirun",
             sub->get_name(), world->ranks()));
       return fn();

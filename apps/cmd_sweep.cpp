@@ -1,12 +1,16 @@
 // cmcsurf sweep: families of CMC surfaces over volume fraction (Section 4.5, Fig. 11).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
+#include "cahn_hilliard/time_step.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "io/atomic_file.h"
@@ -15,10 +19,12 @@
 #include "io/png.h"
 #include "io/run_report.h"
 #include "io/vti.h"
+#include "parallel/decomposition.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
+#include "pipeline/sweep_groups.h"
 #include "page_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
@@ -36,6 +42,7 @@ struct SweepCommand {
   std::string fractions = "0.25:0.75:0.05";
   bool continuation = false;
   int threads = 0;
+  int groups = 0;  // --groups: 0 picks (GroupPlan)
   std::string out = "cmcsurf-sweep";
   bool quiet = false;
   bool float32 = false;
@@ -210,6 +217,100 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
 // Stops a sweep between two members when a signal arrived while one was being written.
 struct StopBetweenMembers {};
 
+// Stops a group's members with an exit code, for an error its rank 0 alone saw (reading or
+// writing a member's folder), once the group has agreed on it.
+struct GroupStop {
+  int code = kExitFailure;
+  std::string message;
+};
+
+// How the processes share the sweep (docs/scaling.md, "Sweeps across nodes"): `groups` groups
+// of `group_ranks`, and the group of each member. One group of one process without mpirun.
+struct GroupPlan {
+  int groups = 1;
+  int group_ranks = 1;
+  std::vector<int> member_group;
+};
+
+// --groups, checked alike on every process before any communication.
+GroupPlan plan_groups(const SweepCommand& cmd, const SweepParams& sp, const Decomposition& world) {
+  const int ranks = world.ranks();
+  auto problem = [&](int group_ranks) { return group_grid_problem(sp.run, group_ranks); };
+  std::vector<int> accepted;
+  for (int g = 1; g <= ranks; ++g)
+    if (ranks % g == 0 && problem(ranks / g).empty()) accepted.push_back(g);
+  const std::string accepted_text =
+      fmt::format("accepted: 0 (automatic) or a divisor G of the {} process{} whose groups of {} "
+                  "/ G processes split the grid: {}",
+                  ranks, ranks == 1 ? "" : "es", ranks, fmt::join(accepted, ", "));
+  GroupPlan plan;
+  if (cmd.groups == 0) {
+    plan.groups = default_groups(ranks, int(sweep_units(sp).size()),
+                                 [&](int q) { return problem(q).empty(); });
+  } else if (cmd.groups < 0 || cmd.groups > ranks || ranks % cmd.groups != 0) {
+    throw UsageError(fmt::format("--groups {}: not a divisor of the {} process{}; {}", cmd.groups,
+                                 ranks, ranks == 1 ? "" : "es", accepted_text));
+  } else if (const std::string why = problem(ranks / cmd.groups); !why.empty()) {
+    throw UsageError(fmt::format("--groups {}: a group of {} processes cannot run a member ({}); {}",
+                                 cmd.groups, ranks / cmd.groups, why, accepted_text));
+  } else {
+    plan.groups = cmd.groups;
+  }
+  plan.group_ranks = ranks / plan.groups;
+  plan.member_group = assign_members(sp, plan.groups);
+  return plan;
+}
+
+std::string member_name_at(const SweepParams& sp, int index) {
+  const int f = int(sp.fractions.size());
+  return member_name(sp.surfaces[std::size_t(index / f)], index / f,
+                     sp.fractions[std::size_t(index % f)]);
+}
+
+void print_plan(const SweepParams& sp, const GroupPlan& plan, const Decomposition& group) {
+  std::cerr << fmt::format(
+      "sweep: {} members on {} processes in {} group{} of {} (process grid {} x {} x {} each)\n",
+      plan.member_group.size(), plan.groups * plan.group_ranks, plan.groups,
+      plan.groups == 1 ? "" : "s", plan.group_ranks, group.dims()[0], group.dims()[1],
+      group.dims()[2]);
+  for (int g = 0; g < plan.groups; ++g) {
+    std::vector<std::string> names;
+    for (int m = 0; m < int(plan.member_group.size()); ++m)
+      if (plan.member_group[std::size_t(m)] == g) names.push_back(member_name_at(sp, m));
+    std::cerr << fmt::format("  group {} (ranks {}-{}): {}\n", g, g * plan.group_ranks,
+                             (g + 1) * plan.group_ranks - 1,
+                             names.empty() ? std::string("nothing")
+                                           : fmt::format("{}", fmt::join(names, ", ")));
+  }
+}
+
+double number_in(const nlohmann::json& report, const char* key) {
+  const auto it = report.find(key);
+  return it != report.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
+// print_member's line for a member another group ran, from its report.json.
+void print_row(const nlohmann::json& r, int index, int count, int group) {
+  const double area = number_in(r, "area"), nodal_area = number_in(r, "nodal_area");
+  std::cerr << fmt::format(
+      "[{}/{}] {} (group {}): {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, nodal "
+      "{:.3g}) nodal area excess {:+.3f}%{}\n",
+      index + 1, count, r.value("member", "?"), group, number_in(r, "steps"),
+      number_in(r, "wall_seconds"), area, number_in(r, "mean_curvature"),
+      number_in(r, "mean_curvature_std"), number_in(r, "nodal_mean_curvature_std"),
+      std::isfinite(nodal_area) ? 100.0 * (nodal_area / area - 1.0) : 0.0,
+      r.value("converged", false) ? "" : " NOT converged");
+}
+
+std::vector<nlohmann::json> reports_of(const std::vector<GroupRows::Row>& rows) {
+  std::vector<nlohmann::json> reports;
+  for (const GroupRows::Row& row : rows) reports.push_back(row.report);
+  return reports;
+}
+
+// One process runs every member; under mpirun each group of processes runs its members
+// (decomposed over the group, its rank 0 writing their folders as `run` does) and world rank 0
+// gathers the rows for sweep.csv, the figures and sweep.json.
 int sweep(SweepCommand& cmd, const CLI::App& app) {
   const bool resuming = !cmd.checkpoints.resume.empty();
   if (resuming) {
@@ -222,139 +323,299 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   SweepParams sp = validate(cmd);
   const fs::path dir(cmd.out);
   if (resuming) sp = resumed_sweep(app, sp, cmd, dir);
+  const auto world = Decomposition::world();
+  const GroupPlan gplan = plan_groups(cmd, sp, *world);
   const int threads = apply_threads(cmd.threads);
   cmd.threads = threads;  // the count in use, kept in sweep.json for a resume
   const auto t0 = std::chrono::steady_clock::now();
-  ensure_directory(dir);
-  remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
-  // sweep.json first, marked incomplete, so that an interrupted sweep can be resumed.
-  if (!resuming) {
-    nlohmann::json started =
-        sweep_summary(sp, cmd, sp.surfaces.size() * sp.fractions.size(), threads, 0);
-    started["complete"] = false;
-    write_json_atomic(dir / "sweep.json", started);
+  const bool world_root = world->rank() == 0;
+  const std::size_t members = sp.surfaces.size() * sp.fractions.size();
+  auto summary_of = [&](std::size_t count, double wall) {
+    nlohmann::json summary = sweep_summary(sp, cmd, count, threads, wall);
+    if (world->distributed())
+      summary["mpi"] = {{"ranks", world->ranks()},
+                        {"groups", gplan.groups},
+                        {"ranks_per_group", gplan.group_ranks}};
+    return summary;
+  };
+  // World rank 0 prepares the folder; every process learns whether it could before any group
+  // writes into it. sweep.json first, marked incomplete, so that an interrupted sweep can be
+  // resumed.
+  std::string setup_error;
+  if (world_root) {
+    try {
+      ensure_directory(dir);
+      remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
+      if (!resuming) {
+        nlohmann::json started = summary_of(members, 0);
+        started["complete"] = false;
+        write_json_atomic(dir / "sweep.json", started);
+      }
+    } catch (const std::exception& e) {
+      setup_error = e.what();
+    }
   }
-  const std::string resume_cmd = fmt::format("{} sweep --resume {}", self_executable(), dir.string());
+  if (world->max_exit_code(setup_error.empty() ? 0 : kExitFailure) != 0) {
+    if (world_root) std::cerr << "error: " << setup_error << "\n";
+    return kExitFailure;
+  }
+  const ProcessGroup group = Decomposition::split(gplan.groups);
+  const std::shared_ptr<const Decomposition> gd = group.decomposition;
+  const bool group_root = gd->rank() == 0;
+  if (world->distributed() && world_root && !cmd.quiet) print_plan(sp, gplan, *gd);
+  std::string resume_cmd = fmt::format("{} sweep --resume {}", self_executable(), dir.string());
+  if (world->distributed()) resume_cmd = fmt::format("mpirun -np {} {}", world->ranks(), resume_cmd);
   SignalGuard signals;
-  CheckpointSink sink(dir, sp.run, output_options(cmd), cmd.checkpoints.every, nullptr);
+  CheckpointSink sink(dir, sp.run, output_options(cmd), cmd.checkpoints.every,
+                      gd->distributed() ? gd : nullptr);
   SweepMember current;
-  int skipped = 0, resumed = 0;
-  std::vector<nlohmann::json> reports;
-  std::vector<GalleryMember> gallery;
-  Progress progress(cmd.quiet);
+  GroupRows mine;  // the rows of this group's members (on its rank 0)
+  Progress progress(cmd.quiet || !world_root);
+  // An error one process of the group saw ends the group's members on all of them.
+  auto agree = [&](int code, const std::string& failure) {
+    if (gd->distributed()) code = gd->max_exit_code(code);
+    if (code != 0) throw GroupStop{code, failure};
+  };
+  auto write_partial_csv = [&] {  // world rank 0, after each of its own members
+    if (world_root) write_file_atomic(dir / "sweep.csv", sweep_csv(reports_of(mine.rows)));
+  };
   auto starting = [&](const SweepMember& m) {
-    if (!cmd.quiet)
+    if (!cmd.quiet && world_root)
       std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count, m.surface,
                                m.alpha, m.started_from);
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
-    // Quality, preview.png and report.html's meshes (docs/report.md).
-    RunOutputs outputs =
-        run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
-    const CmcQuality& quality = outputs.quality;
-    std::optional<RunPreview>& preview = outputs.preview;
-    nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
-                            {"member", m.name},
-                            {"started_from", m.started_from}};
-    if (preview) extra["preview_seconds"] = preview->seconds;
-    if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
-    reports.push_back(write_run_folder(dir / m.name, m.params, r, r.phi, quality, threads,
-                                       cmd.float32, extra, [&] {
-                                         if (preview)
-                                           write_png(dir / m.name / "preview.png", preview->image);
-                                       }));
-    fs::remove(dir / m.name / kCheckpointFileName);  // the member is complete
-    if (outputs.page) write_run_page(dir / m.name, &*outputs.page);
-    if (preview)
-      gallery.push_back({m.surface, m.name, m.alpha, r.final.mean_curvature,
-                         std::move(preview->surfaces.relaxed)});
-    write_file_atomic(dir / "sweep.csv", sweep_csv(reports));  // after every member
-    progress.finish();
-    if (!cmd.quiet) print_member(m, r, quality);
+    // Under a split group its rank 0 gathers the field and writes, as `cmcsurf run` does.
+    Field whole;
+    if (gd->distributed()) {
+      whole = Field(m.params.grid, 2);
+      gather_field(r.phi, whole, false);
+    }
+    std::string failure;
+    if (group_root) {
+      try {
+        if (gd->distributed()) whole.exchange_halo();  // a const Field& arrives with valid ghosts
+        const Field& field = gd->distributed() ? whole : r.phi;
+        // Quality, preview.png and report.html's meshes (docs/report.md).
+        RunOutputs outputs =
+            run_outputs(field, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+        const CmcQuality& quality = outputs.quality;
+        std::optional<RunPreview>& preview = outputs.preview;
+        nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
+                                {"member", m.name},
+                                {"started_from", m.started_from}};
+        if (world->distributed()) {
+          extra.update(decomposition_json(*gd));
+          extra.erase("mpi_rank0");  // the group's counters add up over its members
+          extra["sweep_group"] = group.index;
+        }
+        if (preview) extra["preview_seconds"] = preview->seconds;
+        if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
+        GroupRows::Row row;
+        row.index = m.index;
+        row.report = write_run_folder(dir / m.name, m.params, r, field, quality, threads,
+                                      cmd.float32, extra, [&] {
+                                        if (preview)
+                                          write_png(dir / m.name / "preview.png", preview->image);
+                                      });
+        remove_checkpoint(dir / m.name / kCheckpointFileName);  // the member is complete
+        if (outputs.page) write_run_page(dir / m.name, &*outputs.page);
+        if (preview)
+          row.tile = GalleryMember{m.surface, m.name, m.alpha, r.final.mean_curvature,
+                                   std::move(preview->surfaces.relaxed)};
+        mine.rows.push_back(std::move(row));
+        write_partial_csv();
+        progress.finish();
+        if (!cmd.quiet && world_root) print_member(m, r, quality);
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    }
+    agree(failure.empty() ? 0 : kExitFailure, failure);
   };
   // Each member's folder: kept when complete (resume), continued from its checkpoint, or
-  // cleared of an earlier run's outputs.
+  // cleared of an earlier run's outputs. The group's rank 0 looks and tells the others.
   auto plan = [&](const SweepMember& m) {
-    if (SignalGuard::received()) throw StopBetweenMembers{};
+    MemberStart start;
+    if (gplan.member_group[std::size_t(m.index)] != group.index) {
+      start.kind = MemberStart::Kind::kElsewhere;
+      return start;
+    }
+    // One decision for the group: a signal any of its processes got stops it here.
+    if (gd->max(SignalGuard::received() != 0 ? 1.0 : 0.0) > 0.0) throw StopBetweenMembers{};
     current = m;
     const fs::path mdir = dir / m.name;
     sink.retarget(mdir, m.params);
-    if (fs::is_directory(mdir)) remove_leftover_temporaries(mdir, cmd.quiet);
-    MemberStart start;
-    if (resuming && fs::exists(mdir / kCheckpointFileName)) {
+    enum Decision { kRun, kResume, kSkip, kFailed };
+    int decision = kRun;
+    std::string failure;
+    nlohmann::json report;
+    if (group_root) {
+      try {
+        if (fs::is_directory(mdir)) remove_leftover_temporaries(mdir, cmd.quiet);
+        if (resuming && fs::exists(mdir / kCheckpointFileName)) {
+          decision = kResume;
+        } else if (resuming && fs::exists(mdir / "report.json")) {
+          report = read_json_file(mdir / "report.json");
+          if (report.value("stop_reason", "") != "interrupted" &&
+              fs::exists(mdir / "field.vti") &&
+              report.value("parameters", nlohmann::json()) == params_json(m.params) &&
+              report.value("started_from", "") == m.started_from)
+            decision = kSkip;
+        }
+        if (decision == kRun) {
+          ensure_directory(mdir);
+          clear_run_outputs(mdir);
+          remove_checkpoint(mdir / kCheckpointFileName);
+        }
+      } catch (const std::exception& e) {
+        decision = kFailed;
+        failure = e.what();
+      }
+    }
+    double told = decision;
+    gd->broadcast(&told, 1);
+    decision = int(told);
+    agree(decision == kFailed ? kExitFailure : 0, failure);
+    if (decision == kResume) {
       // A continued member goes on through relax_to_volume_fraction, the first of a family
-      // through run_cmc (pipeline/sweep.h): the checkpoint must fit that run.
+      // through run_cmc (pipeline/sweep.h): the checkpoint must fit that run. Every process
+      // of the group reads it and takes its blocks.
       const RunEntry entry =
           m.started_from == "nodal" ? RunEntry::kCmc : RunEntry::kRelaxToVolume;
-      LoadedCheckpoint loaded = load_checkpoint(mdir, entry, nullptr);
+      LoadedCheckpoint loaded =
+          load_checkpoint(mdir, entry, gd->distributed() ? gd : nullptr);
       start.checkpoint = std::move(loaded.checkpoint);
       if (loaded.params != params_json(m.params))
         throw UsageError(fmt::format("--resume: {} belongs to a run with other parameters than "
                                      "the sweep's member {}",
                                      (mdir / kCheckpointFileName).string(), m.name));
       start.kind = MemberStart::Kind::kResume;
-      ++resumed;
-      if (!cmd.quiet)
+      ++mine.resumed;
+      if (!cmd.quiet && world_root)
         std::cerr << fmt::format("[{}/{}] {}: resuming before step {} ({} on {}^3)\n",
                                  m.index + 1, m.count, m.name, start.checkpoint->step + 1,
                                  start.checkpoint->cursor.stage, start.checkpoint->cursor.grid);
       return start;
     }
-    if (resuming && fs::exists(mdir / "report.json")) {
-      nlohmann::json report = read_json_file(mdir / "report.json");
-      if (report.value("stop_reason", "") != "interrupted" && fs::exists(mdir / "field.vti") &&
-          report.value("parameters", nlohmann::json()) == params_json(m.params) &&
-          report.value("started_from", "") == m.started_from) {
-        start.kind = MemberStart::Kind::kSkip;
-        if (sp.continuation)
-          start.field =
-              std::move(read_vti(mdir / "field.vti", VtiReadOptions{2, 1 << 13, "phi"}).arrays["phi"]);
-        reports.push_back(std::move(report));
-        write_file_atomic(dir / "sweep.csv", sweep_csv(reports));
-        // Its tile, so that gallery.png shows every member (as the uninterrupted sweep's).
-        if (!cmd.pages.no_preview)
-          gallery.push_back(gallery_member_from_folder(mdir, m.surface, m.name, m.alpha));
-        ++skipped;
-        if (!cmd.quiet)
+    if (decision == kSkip) {
+      start.kind = MemberStart::Kind::kSkip;
+      if (sp.continuation)  // the whole field on every process; run_sweep takes its block
+        start.field = std::move(
+            read_vti(mdir / "field.vti", VtiReadOptions{2, 1 << 13, "phi"}).arrays["phi"]);
+      ++mine.kept;
+      if (group_root) {
+        try {
+          GroupRows::Row row;
+          row.index = m.index;
+          row.report = std::move(report);
+          // Its tile, so that gallery.png shows every member (as the uninterrupted sweep's).
+          if (!cmd.pages.no_preview)
+            row.tile = gallery_member_from_folder(mdir, m.surface, m.name, m.alpha);
+          mine.rows.push_back(std::move(row));
+          write_partial_csv();
+        } catch (const std::exception& e) {
+          failure = e.what();
+        }
+        if (!cmd.quiet && world_root && failure.empty())
           std::cerr << fmt::format("[{}/{}] {}: complete, kept\n", m.index + 1, m.count, m.name);
-        return start;
       }
+      agree(failure.empty() ? 0 : kExitFailure, failure);
     }
-    ensure_directory(mdir);
-    clear_run_outputs(mdir);
-    fs::remove(mdir / kCheckpointFileName);
     return start;
   };
   RunContext context([&](const StepRecord& s) { progress.step(s); });
+  if (gd->distributed()) context.decomposition = gd;
   sink.attach(context);
+  // A group that stops early says why: world rank 0 prints its own group's reason now and the
+  // others' once it has gathered them.
+  auto stopped = [&](int code, const std::string& message) {
+    mine.status = code;
+    if (world_root)
+      std::cerr << message;
+    else
+      mine.message = message;
+  };
   try {
     run_sweep(sp, starting, done, context, plan);
   } catch (RunInterrupted& stop) {
     progress.finish();
-    return finish_interrupted(dir / current.name, current.params, stop, sink, threads,
-                              resume_cmd, cmd.quiet,
-                              {{"volume_fraction_target", current.alpha},
-                               {"member", current.name},
-                               {"started_from", current.started_from}});
+    mine.status = finish_interrupted(dir / current.name, current.params, stop, sink, threads,
+                                     resume_cmd, cmd.quiet,
+                                     {{"volume_fraction_target", current.alpha},
+                                      {"member", current.name},
+                                      {"started_from", current.started_from}});
+    if (!world_root)  // world rank 0 printed it in finish_interrupted
+      mine.message = fmt::format("interrupted in member {}, its checkpoint kept\n", current.name);
   } catch (const StopBetweenMembers&) {
-    std::cerr << fmt::format("\ninterrupted by a signal between members ({} complete)\n"
-                             "resume with: {}\n",
-                             reports.size(), resume_cmd);
-    return SignalGuard::exit_code();
+    stopped(SignalGuard::exit_code(),
+            fmt::format("\ninterrupted by a signal between members ({} complete)\n"
+                        "resume with: {}\n",
+                        mine.rows.size(), resume_cmd));
+  } catch (const GroupStop& e) {
+    stopped(e.code, fmt::format("error: {}\n", e.message));
+  } catch (const UsageError& e) {
+    stopped(kExitUsage, fmt::format("error: {}\n", e.what()));
+  } catch (const SolverDiverged& e) {
+    stopped(kExitFailure,
+            fmt::format("error: the run diverged and was stopped; nothing was written.\n{}\n",
+                        e.what()));
+  } catch (const std::exception& e) {
+    if (gd->distributed()) throw;  // perhaps on this process alone: run_main ends them all
+    stopped(kExitFailure, fmt::format("error: {}\n", e.what()));
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!cmd.no_plot) plot(cmd, dir);
-  nlohmann::json summary = sweep_summary(sp, cmd, reports.size(), threads, wall);
-  summary["complete"] = true;
-  if (resuming) summary["resumed"] = {{"members_kept", skipped}, {"members_resumed", resumed}};
-  if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
-  write_json_atomic(dir / "sweep.json", summary);
-  if (!cmd.pages.no_report) write_sweep_page(dir);
-  if (!cmd.quiet)
-    std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
-                             reports.size(), wall, dir.string(),
-                             fs::exists(dir / "families.png") ? ", families.png/.svg" : "");
-  return 0;
+  progress.finish();
+
+  // World rank 0 gathers every group's rows (each group's rank 0 sends, the others send none).
+  const std::vector<std::string> packed =
+      gather_world_bytes(group_root ? pack_group_rows(mine) : std::string());
+  if (!world_root) return mine.status;  // main agrees on the exit code over the world
+  try {
+    int status = 0, kept = 0, resumed = 0;
+    std::vector<std::pair<int, GroupRows::Row>> rows;  // (group, row)
+    for (std::size_t rank = 0; rank < packed.size(); ++rank) {
+      if (packed[rank].empty()) continue;
+      const int g = int(rank) / gplan.group_ranks;
+      GroupRows from = g == group.index ? std::move(mine) : unpack_group_rows(packed[rank]);
+      status = std::max(status, from.status);
+      if (!from.message.empty()) std::cerr << fmt::format("group {}: {}", g, from.message);
+      kept += from.kept;
+      resumed += from.resumed;
+      for (GroupRows::Row& row : from.rows) rows.emplace_back(g, std::move(row));
+    }
+    std::sort(rows.begin(), rows.end(),
+              [](const auto& a, const auto& b) { return a.second.index < b.second.index; });
+    std::vector<nlohmann::json> reports;
+    std::vector<GalleryMember> gallery;
+    for (auto& [g, row] : rows) {
+      if (g != group.index && !cmd.quiet)
+        print_row(row.report, row.index, int(members), g);
+      reports.push_back(row.report);
+      if (row.tile) gallery.push_back(std::move(*row.tile));
+    }
+    if (!reports.empty()) write_file_atomic(dir / "sweep.csv", sweep_csv(reports));
+    if (status != 0) return status;
+    if (reports.size() != members)
+      throw std::logic_error(fmt::format("sweep: {} of {} members gathered", reports.size(),
+                                         members));
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!cmd.no_plot) plot(cmd, dir);
+    nlohmann::json summary = summary_of(reports.size(), wall);
+    summary["complete"] = true;
+    if (resuming) summary["resumed"] = {{"members_kept", kept}, {"members_resumed", resumed}};
+    if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
+    write_json_atomic(dir / "sweep.json", summary);
+    if (!cmd.pages.no_report) write_sweep_page(dir);
+    if (!cmd.quiet)
+      std::cerr << fmt::format("sweep: {} members in {:.1f} s; wrote {}/sweep.csv{}\n",
+                               reports.size(), wall, dir.string(),
+                               fs::exists(dir / "families.png") ? ", families.png/.svg" : "");
+    return 0;
+  } catch (const std::exception& e) {  // world rank 0 alone: the others wait in main
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitFailure;
+  }
 }
 
 }  // namespace
@@ -364,7 +625,8 @@ CommandFn add_sweep_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand(
       "sweep",
       "Families of CMC surfaces over volume fraction (Fig. 11): sweep.csv, one folder per "
-      "member, figures families.png/.svg");
+      "member, figures families.png/.svg. Under mpirun the members run side by side in groups "
+      "of ranks (--groups)");
   app->add_option("--surface", cmd->surfaces,
                   "Comma-separated nodal surfaces (P, D, G, ... or expr:<formula>)")
       ->capture_default_str();
@@ -376,6 +638,13 @@ CommandFn add_sweep_command(CLI::App& root) {
                 "Start each member from the previous member's field shifted to the new mean, "
                 "instead of the nodal formula");
   add_threads_option(*app, cmd->threads);
+  app->add_option("--groups", cmd->groups,
+                  "Under mpirun: run the members side by side in G groups of equal size, each "
+                  "member decomposed over its group's processes (G divides the rank count; with "
+                  "--continuation a group runs whole families). 0: as many groups as members "
+                  "(families) up to the rank count, in as few rounds, with blocks that split "
+                  "the grid")
+      ->capture_default_str();
   app->add_option("--out", cmd->out, "Output directory")->capture_default_str();
   app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
   app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
