@@ -114,6 +114,10 @@ class Field {
   const Decomposition* decomposition() const {
     return plan_ ? plan_->decomposition.get() : nullptr;
   }
+  // The same, shared (for fields on another grid of the same processes).
+  std::shared_ptr<const Decomposition> shared_decomposition() const {
+    return plan_ ? plan_->decomposition : nullptr;
+  }
   // Sums of per-process partial sums (identity on one process); every process gets the same.
   double sum_over_ranks(double local) const {
     return plan_->decomposition ? plan_->decomposition->sum(local) : local;

@@ -141,6 +141,12 @@ nlohmann::json measures_json(const Measures& m) {
   return j;
 }
 
+std::uint64_t peak_memory_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return 1024 * std::uint64_t(usage.ru_maxrss);  // Linux reports kilobytes
+}
+
 nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   const SurfaceInfo* info = find_surface(p.surface);
   const bool nodal = is_nodal_surface(p.surface);
@@ -165,9 +171,7 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   for (const StepRecord& s : r.history) dt_max = std::max(dt_max, s.dt);
   j["dt_max"] = dt_max;  // differs from dt with --dt-max-factor (adaptive steps)
   // Peak resident memory of the process so far (Linux reports kilobytes), and per finest cell.
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const double peak = 1024.0 * double(usage.ru_maxrss);
+  const double peak = double(peak_memory_bytes());
   j["peak_memory_bytes"] = peak;
   j["peak_memory_bytes_per_cell"] = peak / (double(p.grid) * p.grid * p.grid);
   j["unconverged_steps"] = r.unconverged_steps;

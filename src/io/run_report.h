@@ -1,6 +1,8 @@
 // report.json and history.csv of a run (the names and keys are a contract with users' scripts).
 #pragma once
 
+#include <cstdint>
+
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -23,6 +25,8 @@ nlohmann::json measures_json(const Measures& m);
 // total_mean_curvature, volume_fraction, mass, energy, wall_seconds, version) plus details
 // and "parameters".
 nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads);
+// Peak resident memory of this process so far (report.json's peak_memory_bytes).
+std::uint64_t peak_memory_bytes();
 
 // history.csv: step, stage, time, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed.
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history);

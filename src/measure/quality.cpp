@@ -6,25 +6,29 @@
 
 namespace cmcsurf {
 
-CurvatureDistribution summarize(const std::vector<CurvatureSample>& samples) {
-  CurvatureDistribution d;
-  double sw = 0.0, swh = 0.0;
+CurvatureDistribution summarize(const std::vector<CurvatureSample>& samples,
+                                const Decomposition* d) {
+  CurvatureDistribution out;
+  double sums[3] = {0.0, 0.0, double(samples.size())};  // sw, swh, count
   for (const CurvatureSample& s : samples) {
-    sw += s.w;
-    swh += s.w * s.h;
+    sums[0] += s.w;
+    sums[1] += s.w * s.h;
   }
-  d.weight = sw;
-  d.samples = samples.size();
-  if (sw <= 0.0) return d;
-  d.mean = swh / sw;
+  if (d) d->sum(sums, 3);
+  const double sw = sums[0];
+  out.weight = sw;
+  out.samples = std::size_t(sums[2]);
+  if (sw <= 0.0) return out;
+  out.mean = sums[1] / sw;
   double var = 0.0;  // two passes: no cancellation when the spread is small
-  for (const CurvatureSample& s : samples) var += s.w * (s.h - d.mean) * (s.h - d.mean);
-  d.std = std::sqrt(var / sw);
-  return d;
+  for (const CurvatureSample& s : samples) var += s.w * (s.h - out.mean) * (s.h - out.mean);
+  if (d) var = d->sum(var);
+  out.std = std::sqrt(var / sw);
+  return out;
 }
 
 std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samples, double lo,
-                                        double hi, int bins) {
+                                        double hi, int bins, const Decomposition* d) {
   if (bins < 1 || !(hi > lo)) throw std::invalid_argument("curvature_histogram: bad range");
   std::vector<double> hist(bins, 0.0);
   double total = 0.0;
@@ -33,16 +37,20 @@ std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samp
     hist[b] += s.w;
     total += s.w;
   }
+  if (d) {
+    d->sum(hist.data(), bins);
+    total = d->sum(total);
+  }
   if (total > 0.0)
     for (double& v : hist) v /= total;
   return hist;
 }
 
 void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relaxed,
-                        const std::vector<CurvatureSample>* nodal) {
-  q.relaxed = summarize(relaxed);
+                        const std::vector<CurvatureSample>* nodal, const Decomposition* d) {
+  q.relaxed = summarize(relaxed, d);
   q.has_nodal = nodal != nullptr;
-  if (nodal) q.nodal = summarize(*nodal);
+  if (nodal) q.nodal = summarize(*nodal, d);
   double lo = q.relaxed.mean - 4.0 * q.relaxed.std, hi = q.relaxed.mean + 4.0 * q.relaxed.std;
   if (nodal) {
     lo = std::min(lo, q.nodal.mean - 4.0 * q.nodal.std);
@@ -54,8 +62,8 @@ void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relax
   }
   q.edges.resize(kHistogramBins + 1);
   for (int b = 0; b <= kHistogramBins; ++b) q.edges[b] = lo + (hi - lo) * b / kHistogramBins;
-  q.relaxed_hist = curvature_histogram(relaxed, lo, hi, kHistogramBins);
-  if (nodal) q.nodal_hist = curvature_histogram(*nodal, lo, hi, kHistogramBins);
+  q.relaxed_hist = curvature_histogram(relaxed, lo, hi, kHistogramBins, d);
+  if (nodal) q.nodal_hist = curvature_histogram(*nodal, lo, hi, kHistogramBins, d);
 }
 
 }  // namespace cmcsurf

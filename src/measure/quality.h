@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "measure/sharp_surface.h"
+#include "parallel/decomposition.h"
 
 namespace cmcsurf {
 
@@ -16,12 +17,15 @@ struct CurvatureDistribution {
   double weight = 0.0;  // sum(w): the area
   std::size_t samples = 0;
 };
-CurvatureDistribution summarize(const std::vector<CurvatureSample>& samples);
+// d: the processes whose samples together make the surface (each passes its own; every process
+// gets the same result), or null for samples of a whole grid.
+CurvatureDistribution summarize(const std::vector<CurvatureSample>& samples,
+                                const Decomposition* d = nullptr);
 
 // Weighted histogram of H over [lo, hi) in `bins` equal bins; values outside go to the end bins.
 // Returns the weight fraction per bin (sums to 1 unless there are no samples).
 std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samples, double lo,
-                                        double hi, int bins);
+                                        double hi, int bins, const Decomposition* d = nullptr);
 
 inline constexpr int kHistogramBins = 48;
 
@@ -48,6 +52,7 @@ struct CmcQuality {
 // Fills the distributions and the histogram of a CmcQuality from the local samples of the
 // relaxed surface and, if given, of the nodal surface (has_nodal is set then).
 void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relaxed,
-                        const std::vector<CurvatureSample>* nodal);
+                        const std::vector<CurvatureSample>* nodal,
+                        const Decomposition* d = nullptr);
 
 }  // namespace cmcsurf

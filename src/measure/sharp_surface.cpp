@@ -246,16 +246,38 @@ SharpMeasures sharp_measures(const Field& phi, std::vector<CurvatureSample>* sam
   return sharp_measures_psi(psi, samples);
 }
 
+namespace {
+// Largest grid whose psi a decomposed run gathers for the Richardson estimate when N/2 does not
+// split (32 MiB at 160^3); larger grids have blocks of at least 8 cells and never need it.
+constexpr int kRichardsonGatherMaxN = 160;
+}  // namespace
+
 SharpMeasures sharp_measures_psi(const Field& psi, std::vector<CurvatureSample>* samples) {
   const Field& phi = psi;  // the same block and grid
   SharpMeasures m;
   static_cast<LevelSetSurface&>(m) = level_set_surface(psi, samples);
   m.area_error = m.mean_curvature_error = std::numeric_limits<double>::quiet_NaN();
   const int n = phi.n();
-  if (phi.whole() && n % 2 == 0 && n / 2 >= 8) {
+  const auto d = phi.shared_decomposition();
+  const bool split = d && d->distributed();
+  // On a decomposed grid psi is averaged block by block when N/2 still splits, else (blocks of
+  // fewer than 8 cells: a small grid) from psi gathered on every process.
+  const bool blockwise = !split || d->splits(n / 2);
+  if (n % 2 == 0 && n / 2 >= 8 && (blockwise || n <= kRichardsonGatherMaxN)) {
     // Richardson: both are second order, so X_h - X = (X_2h - X_h) / 3 + O(h^3).
-    Field coarse(n / 2, 2);
-    restrict_average(psi, coarse);
+    Field coarse;
+    if (!split) {
+      coarse = Field(n / 2, 2);
+      restrict_average(psi, coarse);
+    } else if (blockwise) {
+      coarse = Field(n / 2, 2, d);
+      restrict_average(psi, coarse);
+    } else {
+      Field whole(n, 0);
+      gather_field(psi, whole, true);
+      coarse = Field(n / 2, 2);
+      restrict_average(whole, coarse);
+    }
     coarse.exchange_halo();
     const LevelSetSurface c = level_set_surface(coarse);
     m.area_error = std::abs(m.area - c.area) / 3.0;

@@ -59,7 +59,8 @@ LevelSetSurface level_set_surface_ref(const Field& psi,
 
 // The sharp measures of a phase field: level_set_surface of tanh_profile_inverse(phi), and
 // Richardson error estimates |X_h - X_2h| / 3 from the same estimator on psi averaged to the
-// grid of N/2 (whole grids with N/2 >= 8; NaN otherwise, e.g. on a decomposed block).
+// grid of N/2 (N even, N/2 >= 8; on a decomposed grid block by block when N/2 splits, else
+// gathered up to N = 160; NaN otherwise).
 struct SharpMeasures : LevelSetSurface {
   double area_error = 0.0;
   double mean_curvature_error = 0.0;

@@ -216,6 +216,62 @@ void Decomposition::broadcast(double* values, int count) const {
 #endif
 }
 
+// --- Collectives of the block-wise outputs (measures, pictures, meshes after a run) ---
+
+void Decomposition::sum_to_root(double* values, std::size_t count) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * count;
+    ++stats_.collectives;
+    if (rank_ == 0)
+      MPI_Reduce(MPI_IN_PLACE, values, int(count), MPI_DOUBLE, MPI_SUM, 0, comm_->cart);
+    else
+      MPI_Reduce(values, nullptr, int(count), MPI_DOUBLE, MPI_SUM, 0, comm_->cart);
+    return;
+  }
+#endif
+  (void)values;
+  (void)count;
+}
+
+std::vector<double> Decomposition::gather_varying(const std::vector<double>& send,
+                                                  std::vector<int>* counts) const {
+#ifdef CMCSURF_HAVE_MPI
+  if (comm_) {
+    const CommTimer timer(stats_.seconds);
+    stats_.gather_bytes += sizeof(double) * send.size();
+    ++stats_.collectives;
+    int mine = int(send.size());
+    std::vector<int> sizes(rank_ == 0 ? ranks_ : 0), displs;
+    MPI_Gather(&mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, comm_->cart);
+    std::vector<double> all;
+    if (rank_ == 0) {
+      displs.resize(ranks_);
+      long total = 0;
+      for (int r = 0; r < ranks_; ++r) {
+        displs[r] = int(total);
+        total += sizes[r];
+      }
+      all.resize(std::size_t(total));
+    }
+    MPI_Gatherv(send.data(), mine, MPI_DOUBLE, all.data(), sizes.data(), displs.data(),
+                MPI_DOUBLE, 0, comm_->cart);
+    if (counts) *counts = std::move(sizes);
+    return all;
+  }
+#endif
+  if (counts) *counts = {int(send.size())};
+  return send;
+}
+
+void Decomposition::broadcast_vector(std::vector<double>& values) const {
+  double size = double(values.size());
+  broadcast(&size, 1);
+  values.resize(std::size_t(size));
+  if (!values.empty()) broadcast(values.data(), int(values.size()));
+}
+
 // --- Agreement after per-process file I/O (io/pvti.*, io/checkpoint.*) ---
 
 std::string Decomposition::first_error(const std::string& mine, int* rank) const {

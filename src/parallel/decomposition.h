@@ -78,6 +78,16 @@ class Decomposition {
   void allgather(const double* send, std::size_t count, double* recv) const;
   void gather(const double* send, std::size_t count, double* recv) const;
   void broadcast(double* values, int count) const;  // from rank 0
+  // Block-wise outputs after a run (render/draw_surface.cpp, pipeline/distributed_mesh.cpp):
+  // Element-wise sums onto rank 0 (values is left undefined elsewhere). Exact where at most
+  // one process contributes a non-zero to each element, whatever order MPI adds in.
+  void sum_to_root(double* values, std::size_t count) const;
+  // Every process's vector, concatenated in rank order on rank 0 (empty elsewhere); counts,
+  // if given, gets each process's size on rank 0.
+  std::vector<double> gather_varying(const std::vector<double>& send,
+                                     std::vector<int>* counts = nullptr) const;
+  // Rank 0's vector (its size included) on every process.
+  void broadcast_vector(std::vector<double>& values) const;
   const CommStats& stats() const { return stats_; }
 
   // Ends every process of the run (for an error that only some processes saw).

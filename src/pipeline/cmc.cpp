@@ -530,13 +530,10 @@ void measure_final(RunResult& r, const RunParams& params) {
   // field); the sharp ones are added.
   r.phi.exchange_halo();
   CMCSURF_DCHECK(r.final.mass == mass(r.phi) && r.final.energy == energy(r.phi, params.epsilon));
-  if (r.phi.whole()) {  // keep psi and the samples for the stages after the run
-    r.final_psi = Field::like(r.phi, 2);
-    tanh_profile_inverse(r.phi, r.final_psi);
-    add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
-  } else {
-    add_sharp_measures(r.final, r.phi);
-  }
+  // Keep psi and the samples (this process's block's) for the stages after the run.
+  r.final_psi = Field::like(r.phi, 2);
+  tanh_profile_inverse(r.phi, r.final_psi);
+  add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
   r.measure_seconds = seconds_since(t0);
 }
 

@@ -13,7 +13,7 @@
 namespace cmcsurf {
 
 Field profile_inverse(const Field& phi) {
-  Field psi(phi.n(), 2);
+  Field psi = Field::like(phi, 2);
   tanh_profile_inverse(phi, psi);
   return psi;
 }
@@ -21,7 +21,9 @@ Field profile_inverse(const Field& phi) {
 PreviewSurfaces preview_surfaces(const Field& psi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal) {
   PreviewSurfaces out;
-  out.relaxed = draw_surface(psi, max_cells);
+  out.relaxed = draw_surface(psi, max_cells);  // collective on a decomposed grid
+  const Decomposition* d = psi.decomposition();
+  if (d && d->rank() != 0) return out;  // rank 0 draws (the rest is small)
   double spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
   if (with_nodal && is_nodal_surface(surface)) {
     // F is a trigonometric polynomial: sampled on the drawing lattice itself its curvature is
@@ -60,6 +62,7 @@ RunPreview make_run_preview(const Field& psi, const RunParams& p, const RunResul
   RunPreview out;
   const double h = r.final.mean_curvature;
   out.surfaces = preview_surfaces(psi, p.surface, q.nodal_level, h, kPreviewCells, q.has_nodal);
+  if (psi.decomposition() && psi.decomposition()->rank() != 0) return out;
   const double alpha = is_nodal_surface(p.surface) ? p.volume_fraction : r.final.volume_fraction;
   const PreviewLabels labels = preview_labels(p.surface, alpha, h, p.grid, p.epsilon,
                                               q.relaxed.std, q.nodal.std, out.surfaces.has_nodal);

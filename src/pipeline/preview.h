@@ -32,10 +32,12 @@ struct PreviewSurfaces {
 // psi: tanh_profile_inverse of the whole final field (measure/sharp_surface.h; ghost 2, halo
 // current). nodal_level: c of the nodal surface {F + 1/2 = c} (CmcQuality::nodal_level), used
 // when `surface` is nodal. The relaxed surface's H comes from psi's full resolution; the nodal
-// formula is sampled on the drawing lattice.
+// formula is sampled on the drawing lattice. On a block of a decomposed psi every process calls
+// it (and make_run_preview) and rank 0 gets the surfaces (and the picture); the others get empty
+// ones.
 PreviewSurfaces preview_surfaces(const Field& psi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal = true);
-// psi = atanh(2 phi - 1) of a whole field, ghost 2, for preview_surfaces.
+// psi = atanh(2 phi - 1) of a field (its block), ghost 2, for preview_surfaces.
 Field profile_inverse(const Field& phi);
 
 struct RunPreview {

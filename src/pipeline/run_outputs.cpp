@@ -27,7 +27,7 @@ RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool 
                        bool page) {
   RunOutputs out;
   const auto t0 = Clock::now();
-  const bool kept = r.final_psi.n() == phi.n() && phi.whole();
+  const bool kept = r.final_psi.n() == phi.n() && r.final_psi.size() == phi.size();
   const Field psi = kept ? std::move(r.final_psi) : profile_inverse(phi);
   const std::vector<CurvatureSample> samples = std::move(r.final_samples);
   r.final_psi = Field();

@@ -19,7 +19,8 @@ struct RunOutputs {
   double page_seconds = 0.0;
 };
 
-// phi: the whole final field of r (r.phi, or its gather under MPI). The quality stage always
+// phi: the final field of r (r.phi: the whole grid, or this process's block under MPI, when
+// every process calls it and rank 0 gets the preview and the page). The quality stage always
 // runs; the preview and the page's meshes when asked for. r's final_psi and final_samples, the
 // final measures' own, are used (and left empty) where r holds them; else they are computed.
 RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,

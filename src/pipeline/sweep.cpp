@@ -166,8 +166,6 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
 }
 
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
-  if (!relaxed.whole())
-    throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
   const auto t0 = std::chrono::steady_clock::now();
   Field psi = Field::like(relaxed, 2);
   tanh_profile_inverse(relaxed, psi);
@@ -180,8 +178,6 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
 CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
                                    const RunParams& params,
                                    const std::vector<CurvatureSample>* known_samples) {
-  if (!psi.whole())
-    throw std::invalid_argument("measure_cmc_quality: needs the whole grid (gather it first)");
   const auto t0 = std::chrono::steady_clock::now();
   CmcQuality q;
   std::vector<CurvatureSample> computed;
@@ -190,11 +186,12 @@ CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
   if (is_nodal_surface(params.surface)) {
     // The nodal surface with the relaxed surface's sharp volume fraction.
     const double v = volume_fraction;
-    const NodalLevelSet nodal = nodal_level_set(
-        params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction, params.grid);
+    const NodalLevelSet nodal =
+        nodal_level_set(params.surface, v > 0.0 && v < 1.0 ? v : params.volume_fraction,
+                        params.grid, 1e-7, psi.shared_decomposition());
     std::vector<CurvatureSample> nodal_samples;
     const LevelSetSurface s = level_set_surface(nodal_level_function(nodal), &nodal_samples);
-    fill_distributions(q, relaxed_samples, &nodal_samples);
+    fill_distributions(q, relaxed_samples, &nodal_samples, psi.decomposition());
     q.nodal_level = nodal.level;
     q.nodal_volume_fraction = nodal.volume_fraction;
     q.nodal_area = s.area;
@@ -203,7 +200,7 @@ CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
     q.nodal_area_diffuse = area(tanh_phi, params.epsilon);
     q.nodal_mean_curvature_diffuse = mean_curvature(tanh_phi);
   } else {
-    fill_distributions(q, relaxed_samples, nullptr);
+    fill_distributions(q, relaxed_samples, nullptr, psi.decomposition());
   }
   q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return q;

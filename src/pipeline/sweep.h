@@ -56,7 +56,9 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
 // CMC quality of a run's final field (docs/families.md), a pipeline stage after the solve: the
 // local mean curvature over the surface (measure/sharp_surface.h) and, for nodal surfaces, the
 // same of the nodal surface {F = c} at the final field's sharp volume fraction, plus Appendix B's
-// area and mean curvature of that nodal surface's tanh profile at epsilon. Whole grid only.
+// area and mean curvature of that nodal surface's tanh profile at epsilon. On a block of a
+// decomposed field every process takes part and gets the same result (the samples of its block
+// reduced over the processes).
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params);
 // The same from psi = tanh_profile_inverse(relaxed) and the relaxed field's sharp volume
 // fraction, when the caller has them (the stages after a run share one psi).

@@ -28,7 +28,9 @@ struct DrawSurface {
 // s of n with n / s <= max_cells.
 int draw_stride(int n, int max_cells);
 
-// psi: whole grid, ghost >= 2, halo current. max_cells >= 2.
+// psi: whole grid, ghost >= 2, halo current. max_cells >= 2. On a block of a decomposed grid
+// every process calls it and rank 0 gets the surface of the whole grid (the same as from the
+// whole psi); the others get an empty one.
 DrawSurface draw_surface(const Field& psi, int max_cells);
 
 // Area-weighted quantile of |H - centre| over the triangles (vertex mean per triangle), q in

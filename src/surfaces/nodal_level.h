@@ -17,11 +17,14 @@ struct NodalLevelSet {
 };
 
 // c such that the sharp volume fraction of {f > c} is alpha to within tol (secant steps from
-// the level at which a fraction alpha of the cells has f > c). Whole grid only.
-NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol = 1e-7);
+// the level at which a fraction alpha of the cells has f > c). With a decomposition, f is this
+// process's block and c the same on every process, equal to the whole grid's to round-off of
+// the reduced sums (the first guess is the same sample, found by a bisection on its order).
+NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol = 1e-7,
+                              std::shared_ptr<const Decomposition> d = nullptr);
 
 // The level-set function psi = f - c (zero on the nodal surface, > 0 in phase 1), ghost 2,
-// halo current: what measure/sharp_surface.h measures.
+// halo current: what measure/sharp_surface.h measures. It and the profile below have f's block.
 Field nodal_level_function(const NodalLevelSet& nodal);
 
 // The nodal surface as a phase field with the equilibrium profile:
