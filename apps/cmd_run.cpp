@@ -1,6 +1,9 @@
 // cmcsurf run: one CMC surface (Section 4.4) or a direct relaxation (sphere, cube, noise).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 
@@ -10,10 +13,13 @@
 #include "io/json_file.h"
 #include "io/png.h"
 #include "io/run_report.h"
+#include "io/pvti.h"
+#include "io/run_folder.h"
 #include "io/vti.h"
 #include "mesh_options.h"
 #include "multigrid/fas.h"
 #include "parallel/decomposition.h"
+#include "pipeline/distributed_mesh.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_outputs.h"
@@ -118,13 +124,16 @@ void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& qua
   std::cerr << fmt::format(
       "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction {:.5f}\n"
       "local H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  (measures {:.2f} s, quality "
-      "{:.2f} s)\nwrote {}/report.json, history.csv, field.vti\n",
+      "{:.2f} s)\nphase 1: Euler characteristic {} (genus {}) per unit cell\nwrote "
+      "{}/report.json, history.csv, {}\n",
       r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
       plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
       r.final.volume_fraction, quality.relaxed.std,
       quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
       r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
-      dir.string());
+      r.final.euler_characteristic, 1 - r.final.euler_characteristic, dir.string(),
+      report.value("mpi_ranks", 1) > 1 ? "field.pvti (field/: one piece per process)"
+                                       : "field.vti");
   if (p.epsilon * p.grid < 1.0) {  // docs/method.md, "Sharp measures": where they are weak
     int finer = p.grid;
     while (p.epsilon * finer < 1.28) finer *= 2;
@@ -177,7 +186,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
   // Everything is checked: from here on the folder may change.
   if (!resuming && world->rank() == 0) {
     clear_run_outputs(dir);  // an earlier run's report must not sit beside this one's files
-    std::filesystem::remove(dir / kCheckpointFileName);
+    remove_checkpoint(dir / kCheckpointFileName);  // checkpoint.bin, then checkpoint.parts/
   }
   if (world->rank() == 0) {
     ensure_directory(dir);
@@ -213,32 +222,52 @@ int run(RunCommand& cmd, const CLI::App& app) {
   }
   progress.finish();
 
-  // Rank 0 gathers the field and measures and writes everything, as a serial run would.
-  Field whole;
-  if (world->distributed()) {
-    whole = Field(p.grid, 2);
-    gather_field(r.phi, whole, false);
-    if (world->rank() != 0) return 0;
-    whole.exchange_halo();  // a const Field& argument arrives with valid ghosts
-  }
-  const Field& field = world->distributed() ? whole : r.phi;
-  // Quality (docs/families.md), preview.png and report.html's meshes (docs/report.md).
-  RunOutputs outputs = run_outputs(field, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+  // Every process measures, draws and meshes on its own block; the reductions give every
+  // process the same numbers and rank 0 the pictures and the mesh. No process holds the whole
+  // grid (docs/scaling.md, "Output").
+  RunOutputs outputs = run_outputs(r.phi, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
   const CmcQuality& quality = outputs.quality;
   std::optional<RunPreview>& preview = outputs.preview;
-  nlohmann::json extra = decomposition_json(*world);  // io/run_folder.h
+  nlohmann::json extra;
   extra["checkpoints_written"] = sink.written();
   extra["checkpoint_seconds"] = sink.seconds();
   if (resume) extra["resumed_from_step"] = resume->step;
   if (preview) extra["preview_seconds"] = preview->seconds;
   if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
+  // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
+  std::optional<Scaffold> surface;
+  if (!cmd.mesh_format.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    surface = distributed_surface_scaffold(r.phi, ScaffoldParams{});
+    extra["surface_mesh_seconds"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  double field_seconds = 0.0;
+  if (world->distributed()) {
+    // field.pvti: every process writes its piece (collective), before rank 0's files.
+    const auto t0 = std::chrono::steady_clock::now();
+    r.phi.exchange_halo();  // the pieces share their faces: each reads its high ghosts
+    write_run_field(dir, {{"phi", &r.phi}}, cmd.float32,
+                    run_field_metadata(p, r, run_folder_report(p, r, quality, threads, extra)));
+    field_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Every process's peak resident memory (the report's peak_memory_bytes is rank 0's).
+    const std::vector<std::uint64_t> peaks = allgather_world({peak_memory_bytes()});
+    extra["peak_memory_bytes_per_rank"] = peaks;
+    extra["peak_memory_bytes_max_rank"] = *std::max_element(peaks.begin(), peaks.end());
+    extra.update(decomposition_json(*world));  // io/run_folder.h; after the last collective
+    if (world->rank() != 0) return 0;
+  } else {
+    extra.update(decomposition_json(*world));
+  }
   const nlohmann::json report = write_run_folder(
-      dir, p, r, field, quality, threads, cmd.float32, extra, [&] {
-        if (!cmd.mesh_format.empty()) write_run_surface_mesh(dir, field, cmd.mesh_format);
+      dir, p, r, world->distributed() ? Field() : r.phi, quality, threads, cmd.float32, extra,
+      [&] {
+        if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
         if (preview) write_png(dir / "preview.png", preview->image);
-      });
+      },
+      field_seconds);
   if (outputs.page) write_run_page(dir, &*outputs.page);
-  std::filesystem::remove(dir / kCheckpointFileName);  // the run is complete
+  remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
   if (!cmd.quiet) print_summary(p, r, quality, report, dir);
   print_warnings(p, r);
   if (SignalGuard::received()) {  // after the last step: the outputs were finished first
@@ -256,9 +285,10 @@ CommandFn add_run_command(CLI::App& root) {
       "run", "Compute one triply periodic CMC surface at a prescribed volume fraction");
   add_run_options(*app, cmd->params, cmd->strings, true);
   add_threads_option(*app, cmd->threads);
-  app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti)")
+  app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti; field.pvti with one piece per "
+                  "process under mpirun)")
       ->capture_default_str();
-  app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
+  app->add_flag("--float32", cmd->float32, "Write the field (field.vti or field.pvti) in single precision");
   app->add_option("--mesh", cmd->mesh_format,
                   "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
                   "unit-cell coordinates, with surface.FORMAT.json");

@@ -121,10 +121,14 @@ void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const Me
 
 void write_run_surface_mesh(const std::filesystem::path& dir, const Field& phi,
                             const std::string& format) {
+  write_run_surface_mesh(dir, build_scaffold(phi, ScaffoldParams{}), format);
+}
+
+void write_run_surface_mesh(const std::filesystem::path& dir, const Scaffold& s,
+                            const std::string& format) {
   MeshPlan plan;
   plan.format = parse_mesh_format(format);
   plan.out = dir / (std::string("surface.") + mesh_format_extension(plan.format));
-  const Scaffold s = build_scaffold(phi, plan.params);
   write_mesh_with_report(s.mesh, s.report, plan,
                          {{"note", "untiled phi = 1/2 surface; coordinates in unit cells"}});
 }

@@ -52,5 +52,9 @@ void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const Me
 // "surface.<ext>" report for `run --mesh FORMAT`: the untiled surface in unit-cell units.
 void write_run_surface_mesh(const std::filesystem::path& dir, const Field& phi,
                             const std::string& format);
+// The same for a scaffold built before (build_scaffold with default ScaffoldParams, or a
+// decomposed run's pipeline/distributed_mesh.h).
+void write_run_surface_mesh(const std::filesystem::path& dir, const Scaffold& s,
+                            const std::string& format);
 
 }  // namespace cmcsurf

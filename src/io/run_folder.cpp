@@ -10,16 +10,16 @@
 #include "io/atomic_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
+#include "io/pvti.h"
 #include "io/vti.h"
 
 namespace cmcsurf {
 
-void clear_run_outputs(const std::filesystem::path& dir) {
+void clear_run_outputs(const std::filesystem::path& dir, bool keep_field) {
   namespace fs = std::filesystem;
   // report.json first: from here until it is written again the folder reads as incomplete.
   std::vector<fs::path> stale = {dir / "report.json"};
-  for (const char* name :
-       {"field.vti", "history.csv", "curvature_histogram.csv", "preview.png", "report.html"})
+  for (const char* name : {"history.csv", "curvature_histogram.csv", "preview.png", "report.html"})
     stale.push_back(dir / name);
   for (const char* ext : {"stl", "ply", "obj", "3mf"}) {
     stale.push_back(dir / (std::string("surface.") + ext));
@@ -32,6 +32,20 @@ void clear_run_outputs(const std::filesystem::path& dir) {
       throw std::runtime_error(
           fmt::format("cannot remove the earlier run's '{}': {}", f.string(), ec.message()));
   }
+  if (!keep_field) remove_run_field(dir);  // field.vti, or field.pvti and its pieces
+}
+
+std::map<std::string, std::string> run_field_metadata(const RunParams& p, const RunResult& r,
+                                                      const nlohmann::json& report) {
+  const nlohmann::json& target = report["volume_fraction_target"];
+  return {{"surface", p.surface},
+          {"volume_fraction_target",
+           target.is_null() ? "none" : fmt::format("{}", target.get<double>())},
+          {"epsilon", fmt::format("{}", p.epsilon)},
+          {"grid", fmt::format("{}", p.grid)},
+          {"area", fmt::format("{:.17g}", r.final.area)},
+          {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
+          {"version", CMCSURF_VERSION}};
 }
 
 nlohmann::json decomposition_json(const Decomposition& world) {
@@ -60,26 +74,21 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra,
-                                const std::function<void()>& extra_files) {
+                                const std::function<void()>& extra_files,
+                                double field_seconds) {
   nlohmann::json report = run_folder_report(p, r, quality, threads, extra);
   const auto t0 = std::chrono::steady_clock::now();
+  const bool field_written = phi.n() == 0;
   ensure_directory(dir);
-  clear_run_outputs(dir);
+  clear_run_outputs(dir, field_written);
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
-  const nlohmann::json& target = report["volume_fraction_target"];
-  write_vti(dir / "field.vti", {{"phi", &phi}}, float32,
-            {{"surface", p.surface},
-             {"volume_fraction_target", target.is_null() ? "none" : fmt::format("{}", target.get<double>())},
-             {"epsilon", fmt::format("{}", p.epsilon)},
-             {"grid", fmt::format("{}", p.grid)},
-             {"area", fmt::format("{:.17g}", r.final.area)},
-             {"mean_curvature", fmt::format("{:.17g}", r.final.mean_curvature)},
-             {"version", CMCSURF_VERSION}});
+  if (!field_written)
+    write_run_field(dir, {{"phi", &phi}}, float32, run_field_metadata(p, r, report));
   if (extra_files) extra_files();
   // The files before report.json; report.json itself and a page written after it are not in it.
   report["write_seconds"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      field_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_json_atomic(dir / "report.json", report);
   return report;
 }

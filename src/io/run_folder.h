@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
@@ -15,7 +17,12 @@ namespace cmcsurf {
 
 // Removes the outputs an earlier run left in dir (report.json first), so that a run into an
 // existing folder never leaves new files beside an old report, nor old ones beside a new one.
-void clear_run_outputs(const std::filesystem::path& dir);
+// keep_field: leave field.vti / field.pvti (this run's, written before by every process).
+void clear_run_outputs(const std::filesystem::path& dir, bool keep_field = false);
+
+// The metadata of a run's field file (the cmcsurf comment of field.vti / field.pvti).
+std::map<std::string, std::string> run_field_metadata(const RunParams& p, const RunResult& r,
+                                                      const nlohmann::json& report);
 
 // report.json keys of the process layout: mpi_ranks, process_grid and, on several processes,
 // rank 0's communication counters (docs/scaling.md).
@@ -31,10 +38,13 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
 // A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
 // writes (the surface mesh), and report.json (run_folder_report) last, since it marks a
 // complete run. An earlier run's outputs in dir are removed first (clear_run_outputs). phi is
-// the whole final field (r.phi, or its gather under MPI). Returns the report.
+// the whole final field, or an empty Field when the caller wrote the field file before (a
+// decomposed run: every process writes its piece of field.pvti, io/pvti.h, taking
+// field_seconds, which write_seconds includes). Returns the report.
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra = {},
-                                const std::function<void()>& extra_files = {});
+                                const std::function<void()>& extra_files = {},
+                                double field_seconds = 0.0);
 
 }  // namespace cmcsurf

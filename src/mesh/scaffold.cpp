@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <limits>
 #include <stdexcept>
@@ -21,6 +22,21 @@ namespace {
 
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
+
+}  // namespace
+
+namespace {
+
+// The planes of a whole field, through one buffer.
+PlaneFn field_planes(const Field& phi) {
+  auto buffer = std::make_shared<std::vector<double>>(std::size_t(phi.n()) * phi.n());
+  return [&phi, buffer](int k) {
+    const int n = phi.n();
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) (*buffer)[std::size_t(j) * n + i] = phi(i, j, k);
+    return static_cast<const double*>(buffer->data());
+  };
+}
 
 }  // namespace
 
@@ -67,18 +83,21 @@ TriMesh mesh_tiled(const TiledSampler& f, int n, const std::array<int, 3>& tiles
   return extract_isosurface(lat, iso);
 }
 
-TriMesh periodic_surface_mesh(const Field& phi, double iso) {
-  const int n = phi.n();
+TriMesh periodic_surface_mesh(const PlaneFn& plane, int n, double iso) {
   NodeLattice lat;
   lat.nodes = {n, n, n};
   lat.periodic = true;
   lat.origin = {0.5 / n, 0.5 / n, 0.5 / n};
   lat.spacing = {1.0 / n, 1.0 / n, 1.0 / n};
   lat.layer = [&](int k, double* v) {
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) v[std::size_t(j) * n + i] = phi(i, j, k);
+    const double* p = plane(k);
+    std::copy(p, p + std::size_t(n) * n, v);
   };
   return extract_isosurface(lat, iso);
+}
+
+TriMesh periodic_surface_mesh(const Field& phi, double iso) {
+  return periodic_surface_mesh(field_planes(phi), phi.n(), iso);
 }
 
 Field signed_distance(const Field& phi, double band, double iso) {
@@ -185,7 +204,11 @@ nlohmann::json mesh_stats_json(const MeshStats& s, const std::array<int, 3>& til
 }
 
 nlohmann::json periodic_surface_json(const Field& phi) {
-  const MeshStats s = analyze_mesh(periodic_surface_mesh(phi));
+  return periodic_surface_json(field_planes(phi), phi.n());
+}
+
+nlohmann::json periodic_surface_json(const PlaneFn& plane, int n) {
+  const MeshStats s = analyze_mesh(periodic_surface_mesh(plane, n));
   return {{"note", "phi = 1/2 surface of one unit cell on the 3-torus, unit-cell units"},
           {"euler_characteristic", s.euler},
           {"genus", 1.0 - 0.5 * double(s.euler)},
@@ -195,12 +218,64 @@ nlohmann::json periodic_surface_json(const Field& phi) {
           {"manifold", s.manifold()}};
 }
 
-Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const int n = phi.n();
+namespace {
+
+void check_scaffold_params(const ScaffoldParams& p) {
   for (int c = 0; c < 3; ++c)
     if (p.tiles[c] < 1) throw std::invalid_argument("tiles must be >= 1 on every axis");
   if (!(p.cell_size > 0)) throw std::invalid_argument("cell size must be > 0");
+}
+
+}  // namespace
+
+Scaffold build_surface_scaffold(const PlaneFn& plane, int n, const ScaffoldParams& p) {
+  if (p.solid != SolidKind::kSurface)
+    throw std::invalid_argument("build_surface_scaffold: a surface only");
+  check_scaffold_params(p);
+  const auto t0 = std::chrono::steady_clock::now();
+  const double sign = p.other_phase ? -1.0 : 1.0;
+  // mesh_tiled's surface lattice (node m = cell m mod n per axis), one plane per layer.
+  const double h = p.cell_size / n;
+  NodeLattice lat;
+  for (int c = 0; c < 3; ++c) {
+    lat.nodes[c] = p.tiles[c] * n + 1;
+    lat.origin[c] = 0.5 * h;
+    lat.spacing[c] = h;
+  }
+  lat.layer = [&](int k, double* v) {
+    const double* values = plane(k % n);
+    const int nx = lat.nodes[0], ny = lat.nodes[1];
+#pragma omp parallel for schedule(static)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        v[std::size_t(j) * nx + i] = 0.5 + sign * (values[std::size_t(j % n) * n + i % n] - 0.5);
+  };
+  Scaffold out;
+  out.mesh = extract_isosurface(lat, 0.5);
+  const double mesh_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const MeshStats s = analyze_mesh(out.mesh);
+  nlohmann::json& r = out.report;
+  r = mesh_stats_json(s, p.tiles, p.units, false);
+  const int cells = p.tiles[0] * p.tiles[1] * p.tiles[2];
+  r["solid"] = solid_kind_name(p.solid);
+  r["phase"] = p.other_phase ? "phi < 1/2" : "phi > 1/2";
+  r["tiles"] = p.tiles;
+  r["cell_size"] = p.cell_size;
+  r["units"] = p.units;
+  r["grid"] = n;
+  r["periodic_surface"] = periodic_surface_json(plane, n);
+  r["mesh_seconds"] = mesh_seconds;
+  r["area_per_cell"] = s.area / cells / (p.cell_size * p.cell_size);
+  r["area_per_cell_units"] = "unit cell edge^2";
+  return out;
+}
+
+Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
+  if (p.solid == SolidKind::kSurface) return build_surface_scaffold(field_planes(phi), phi.n(), p);
+  const auto t0 = std::chrono::steady_clock::now();
+  const int n = phi.n();
+  check_scaffold_params(p);
   const double sign = p.other_phase ? -1.0 : 1.0;
   const bool solid = p.solid != SolidKind::kSurface;
   nlohmann::json extra;

@@ -62,6 +62,17 @@ struct Scaffold {
 // phi: any ghost width. Throws std::invalid_argument on parameters out of range.
 Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p);
 
+// The n x n values of z-plane k (0 <= k < n) of an n^3 field, x fastest; valid until the next
+// call. Planes are asked for in the order the meshers below need them (each k at most twice).
+using PlaneFn = std::function<const double*(int k)>;
+// build_scaffold of a surface (p.solid == kSurface) from a field read plane by plane, for a
+// field no process holds whole (a decomposed run's --mesh: pipeline/distributed_mesh.h). The
+// same mesh and report as build_scaffold of the whole field.
+Scaffold build_surface_scaffold(const PlaneFn& plane, int n, const ScaffoldParams& p);
+// periodic_surface_mesh and periodic_surface_json of a field read plane by plane.
+TriMesh periodic_surface_mesh(const PlaneFn& plane, int n, double iso = 0.5);
+nlohmann::json periodic_surface_json(const PlaneFn& plane, int n);
+
 // Mesh measures and checks in output units: counts, area, volume (solids), Euler
 // characteristic (also per tile), bounding box, edge and vertex checks.
 nlohmann::json mesh_stats_json(const MeshStats& s, const std::array<int, 3>& tiles,
