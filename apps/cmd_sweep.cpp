@@ -386,15 +386,14 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
     // Under a split group its rank 0 gathers the field and writes, as `cmcsurf run` does.
-    Field whole;
+    Field whole;  // on the group's rank 0, ghosts valid
     if (gd->distributed()) {
-      whole = Field(m.params.grid, 2);
+      if (group_root) whole = Field(m.params.grid, 2);
       gather_field(r.phi, whole, false);
     }
     std::string failure;
     if (group_root) {
       try {
-        if (gd->distributed()) whole.exchange_halo();  // a const Field& arrives with valid ghosts
         const Field& field = gd->distributed() ? whole : r.phi;
         // Quality, preview.png and report.html's meshes (docs/report.md).
         RunOutputs outputs =
