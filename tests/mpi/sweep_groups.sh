@@ -126,18 +126,17 @@ sys.exit(0 if s['complete'] and s['resumed'] == {'members_kept': 2, 'members_res
 sargs=(sweep --surface P --volume-fractions 0.4,0.6 --grid 32 --max-steps 120 --tol 1e-30
        --constrain mass --no-plot --no-preview --no-report)
 "$bin" "${sargs[@]}" --quiet --out "$work/sserial" || { echo "FAIL: serial 32^3 sweep"; exit 1; }
-"$mpiexec" -np "$np" --oversubscribe "$bin" "${sargs[@]}" --out "$work/cut" 2>"$work/cut.log" &
-pid=$!  # mpiexec itself: a signal to it is not passed on as is (it exits 1)
-(sleep 60; kill -9 $pid 2>/dev/null) &  # no hang
-watchdog=$!
+timeout 60 "$mpiexec" -np "$np" --oversubscribe "$bin" "${sargs[@]}" --out "$work/cut" \
+  2>"$work/cut.log" &
+pid=$!
 while kill -0 $pid 2>/dev/null; do  # until world rank 0's member relaxes
   grep -q "^relax " "$work/cut.log" && break
   sleep 0.01
 done
-pkill -TERM -P $pid
+# To the ranks, the children of mpiexec (a signal to mpiexec itself makes it exit 1).
+pkill -TERM -P "$(pgrep -P $pid | head -1)"
 wait $pid
 rc=$?
-kill $watchdog 2>/dev/null
 [ $rc = 143 ] || { echo "FAIL: SIGTERM to the ranks: exit $rc, want 143"; cat "$work/cut.log"; fail=1; }
 grep -q "resume with: mpirun -np $np .* sweep --resume $work/cut" "$work/cut.log" ||
   { echo "FAIL: no resume hint"; cat "$work/cut.log"; fail=1; }
