@@ -18,6 +18,8 @@
 #include "io/json_file.h"
 #include "io/png.h"
 #include "io/run_report.h"
+#include "io/pvti.h"
+#include "io/run_folder.h"
 #include "io/vti.h"
 #include "parallel/decomposition.h"
 #include "pipeline/option_checks.h"
@@ -385,40 +387,53 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
                                m.alpha, m.started_from);
   };
   auto done = [&](const SweepMember& m, RunResult& r) {
-    // Under a split group its rank 0 gathers the field and writes, as `cmcsurf run` does.
-    Field whole;  // on the group's rank 0, ghosts valid
-    if (gd->distributed()) {
-      if (group_root) whole = Field(m.params.grid, 2);
-      gather_field(r.phi, whole, false);
-    }
+    // As `cmcsurf run` does: every process of the group computes the outputs on its blocks
+    // (the group's rank 0 gets the pictures) and writes its piece of field.pvti; the group's
+    // rank 0 writes the rest. No process holds the whole grid (docs/scaling.md, "Output").
     std::string failure;
-    if (group_root) {
+    std::optional<RunOutputs> outputs;
+    nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
+                            {"member", m.name},
+                            {"started_from", m.started_from}};
+    if (world->distributed()) {
+      extra.update(decomposition_json(*gd));
+      extra.erase("mpi_rank0");  // the group's counters add up over its members
+      extra["sweep_group"] = group.index;
+    }
+    double field_seconds = 0.0;
+    try {
+      // Quality, preview.png and report.html's meshes (docs/report.md).
+      outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+      if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
+      if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
+      if (gd->distributed()) {  // field.pvti: one piece per process of the group
+        const auto t0 = std::chrono::steady_clock::now();
+        r.phi.exchange_halo();
+        write_run_field(dir / m.name, {{"phi", &r.phi}}, cmd.float32,
+                        run_field_metadata(m.params, r,
+                                           run_folder_report(m.params, r, outputs->quality,
+                                                             threads, extra)));
+        field_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    if (group_root && failure.empty()) {
       try {
-        const Field& field = gd->distributed() ? whole : r.phi;
-        // Quality, preview.png and report.html's meshes (docs/report.md).
-        RunOutputs outputs =
-            run_outputs(field, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
-        const CmcQuality& quality = outputs.quality;
-        std::optional<RunPreview>& preview = outputs.preview;
-        nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
-                                {"member", m.name},
-                                {"started_from", m.started_from}};
-        if (world->distributed()) {
-          extra.update(decomposition_json(*gd));
-          extra.erase("mpi_rank0");  // the group's counters add up over its members
-          extra["sweep_group"] = group.index;
-        }
-        if (preview) extra["preview_seconds"] = preview->seconds;
-        if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
+        const CmcQuality& quality = outputs->quality;
+        std::optional<RunPreview>& preview = outputs->preview;
         GroupRows::Row row;
         row.index = m.index;
-        row.report = write_run_folder(dir / m.name, m.params, r, field, quality, threads,
-                                      cmd.float32, extra, [&] {
-                                        if (preview)
-                                          write_png(dir / m.name / "preview.png", preview->image);
-                                      });
+        row.report = write_run_folder(
+            dir / m.name, m.params, r, gd->distributed() ? Field() : r.phi, quality, threads,
+            cmd.float32, extra,
+            [&] {
+              if (preview) write_png(dir / m.name / "preview.png", preview->image);
+            },
+            field_seconds);
         remove_checkpoint(dir / m.name / kCheckpointFileName);  // the member is complete
-        if (outputs.page) write_run_page(dir / m.name, &*outputs.page);
+        if (outputs->page) write_run_page(dir / m.name, &*outputs->page);
         if (preview)
           row.tile = GalleryMember{m.surface, m.name, m.alpha, r.final.mean_curvature,
                                    std::move(preview->surfaces.relaxed)};
@@ -457,7 +472,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
         } else if (resuming && fs::exists(mdir / "report.json")) {
           report = read_json_file(mdir / "report.json");
           if (report.value("stop_reason", "") != "interrupted" &&
-              fs::exists(mdir / "field.vti") &&
+              (fs::exists(mdir / kRunFieldVti) || fs::exists(mdir / kRunFieldPvti)) &&
               report.value("parameters", nlohmann::json()) == params_json(m.params) &&
               report.value("started_from", "") == m.started_from)
             decision = kSkip;
@@ -501,7 +516,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       start.kind = MemberStart::Kind::kSkip;
       if (sp.continuation)  // the whole field on every process; run_sweep takes its block
         start.field = std::move(
-            read_vti(mdir / "field.vti", VtiReadOptions{2, 1 << 13, "phi"}).arrays["phi"]);
+            read_field_file(run_field_file(mdir), VtiReadOptions{2, 1 << 13, "phi"})
+                .arrays["phi"]);
       ++mine.kept;
       if (group_root) {
         try {
@@ -645,7 +661,8 @@ CommandFn add_sweep_command(CLI::App& root) {
                   "the grid")
       ->capture_default_str();
   app->add_option("--out", cmd->out, "Output directory")->capture_default_str();
-  app->add_flag("--float32", cmd->float32, "Write field.vti in single precision");
+  app->add_flag("--float32", cmd->float32, "Write each member's field (field.vti, or field.pvti under a group of several "
+                "processes) in single precision");
   app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
   app->add_option("--python", cmd->python, "Python with matplotlib for the figures")
       ->capture_default_str();
