@@ -573,6 +573,23 @@ nlohmann::json header_json(const nlohmann::json& params, const Checkpoint& c,
   return h;
 }
 
+// The fields' interior rows, x fastest, then y, z, field by field; returns crc continued over
+// the bytes written.
+std::uint32_t write_field_rows(std::ostream& out, const std::vector<NamedField>& fields,
+                               std::uint32_t crc) {
+  for (const NamedField& f : fields) {
+    const Field& x = *f.field;
+    const std::streamsize row = std::streamsize(x.nx() * sizeof(double));
+    for (int k = 0; k < x.nz(); ++k)
+      for (int j = 0; j < x.ny(); ++j) {
+        const double* p = &x(0, j, k);
+        crc = crc32_of(crc, p, std::size_t(row));
+        out.write(reinterpret_cast<const char*>(p), row);
+      }
+  }
+  return crc;
+}
+
 // The container: preamble, header, the fields' interiors (none for format 5), trailer.
 void write_container(const std::filesystem::path& path, int format, const nlohmann::json& h,
                      const std::vector<NamedField>& fields) {
@@ -584,17 +601,7 @@ void write_container(const std::filesystem::path& path, int format, const nlohma
   put(out, crc32_of(0, header.data(), header.size()));
   put(out, std::uint64_t(header.size()));
   out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
-  std::uint32_t crc = 0;
-  for (const NamedField& f : fields) {
-    const Field& x = *f.field;
-    const std::streamsize row = std::streamsize(x.nx() * sizeof(double));
-    for (int k = 0; k < x.nz(); ++k)
-      for (int j = 0; j < x.ny(); ++j) {
-        const double* p = &x(0, j, k);
-        crc = crc32_of(crc, p, std::size_t(row));
-        out.write(reinterpret_cast<const char*>(p), row);
-      }
-  }
+  const std::uint32_t crc = write_field_rows(out, fields, 0);
   put(out, crc);
   out.write(kEndMagic.data(), kEndMagic.size());
   w.commit();
@@ -623,17 +630,7 @@ std::uint32_t write_piece(const std::filesystem::path& path, std::uint64_t id,
   AtomicWriter w(path);
   std::ostream& out = w.stream();
   out.write(reinterpret_cast<const char*>(pre.data()), std::streamsize(pre.size()));
-  std::uint32_t crc = crc32_of(0, pre.data(), pre.size());
-  for (const NamedField& f : fields) {
-    const Field& x = *f.field;
-    const std::streamsize row = std::streamsize(x.nx() * sizeof(double));
-    for (int k = 0; k < x.nz(); ++k)
-      for (int j = 0; j < x.ny(); ++j) {
-        const double* p = &x(0, j, k);
-        crc = crc32_of(crc, p, std::size_t(row));
-        out.write(reinterpret_cast<const char*>(p), row);
-      }
-  }
+  const std::uint32_t crc = write_field_rows(out, fields, crc32_of(0, pre.data(), pre.size()));
   put(out, crc);
   out.write(kEndMagic.data(), kEndMagic.size());
   w.commit();

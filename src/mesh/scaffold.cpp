@@ -220,6 +220,19 @@ nlohmann::json periodic_surface_json(const PlaneFn& plane, int n) {
 
 namespace {
 
+// The report keys every kind of part has besides its mesh statistics.
+void add_part_keys(nlohmann::json& r, const ScaffoldParams& p, int n,
+                   const nlohmann::json& periodic, double mesh_seconds) {
+  r["solid"] = solid_kind_name(p.solid);
+  r["phase"] = p.other_phase ? "phi < 1/2" : "phi > 1/2";
+  r["tiles"] = p.tiles;
+  r["cell_size"] = p.cell_size;
+  r["units"] = p.units;
+  r["grid"] = n;
+  r["periodic_surface"] = periodic;
+  r["mesh_seconds"] = mesh_seconds;
+}
+
 void check_scaffold_params(const ScaffoldParams& p) {
   for (int c = 0; c < 3; ++c)
     if (p.tiles[c] < 1) throw std::invalid_argument("tiles must be >= 1 on every axis");
@@ -258,14 +271,7 @@ Scaffold build_surface_scaffold(const PlaneFn& plane, int n, const ScaffoldParam
   nlohmann::json& r = out.report;
   r = mesh_stats_json(s, p.tiles, p.units, false);
   const int cells = p.tiles[0] * p.tiles[1] * p.tiles[2];
-  r["solid"] = solid_kind_name(p.solid);
-  r["phase"] = p.other_phase ? "phi < 1/2" : "phi > 1/2";
-  r["tiles"] = p.tiles;
-  r["cell_size"] = p.cell_size;
-  r["units"] = p.units;
-  r["grid"] = n;
-  r["periodic_surface"] = periodic_surface_json(plane, n);
-  r["mesh_seconds"] = mesh_seconds;
+  add_part_keys(r, p, n, periodic_surface_json(plane, n), mesh_seconds);
   r["area_per_cell"] = s.area / cells / (p.cell_size * p.cell_size);
   r["area_per_cell_units"] = "unit cell edge^2";
   return out;
@@ -313,14 +319,7 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
   const int cells = p.tiles[0] * p.tiles[1] * p.tiles[2];
   const double box = cells * std::pow(p.cell_size, 3);
   const double l2 = p.cell_size * p.cell_size;
-  r["solid"] = solid_kind_name(p.solid);
-  r["phase"] = p.other_phase ? "phi < 1/2" : "phi > 1/2";
-  r["tiles"] = p.tiles;
-  r["cell_size"] = p.cell_size;
-  r["units"] = p.units;
-  r["grid"] = n;
-  r["periodic_surface"] = periodic;
-  r["mesh_seconds"] = mesh_seconds;
+  add_part_keys(r, p, n, periodic, mesh_seconds);
   if (solid) r["topology"] = part_topology_json(topology, p.units);
   if (p.solid == SolidKind::kSurface) {
     r["area_per_cell"] = s.area / cells / l2;
