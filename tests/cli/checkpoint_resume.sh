@@ -38,7 +38,7 @@ a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
 timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
           "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
           "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds"}
+          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
 diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
 assert not diff, f"resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0 and b["steps"] == a["steps"] and b["vcycles"] == a["vcycles"]

@@ -61,7 +61,7 @@ a, b = (list(csv.DictReader(open(f"{d}/sweep.csv"))) for d in sys.argv[1:3])
 timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
           "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
           "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds"}
+          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
 assert len(a) == len(b) == 3, (len(a), len(b))
 for x, y in zip(a, b):
     diff = [k for k in set(x) | set(y) if k not in timing and x.get(k) != y.get(k)]

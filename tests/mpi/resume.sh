@@ -73,7 +73,7 @@ a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
 timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
           "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
           "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "mpi_rank0",
+          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds", "mpi_rank0",
           "peak_memory_bytes_per_rank", "peak_memory_bytes_max_rank"}
 diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"

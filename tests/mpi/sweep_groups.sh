@@ -33,7 +33,7 @@ tol = float(sys.argv[3])
 timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
           "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
           "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "threads"}
+          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds", "threads"}
 bad = []
 if [r["member"] for r in a] != [r["member"] for r in b]:
     bad.append(f"members {[r['member'] for r in a]} vs {[r['member'] for r in b]}")
