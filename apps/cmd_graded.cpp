@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/wall_clock.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "measure/measures.h"
@@ -111,7 +112,7 @@ CommandFn add_graded_command(CLI::App& root) {
             const bool solid = plan.params.solid == SolidKind::kNetwork;
             const TriMesh mesh = mesh_tiled(f, n, plan.params.tiles, plan.params.cell_size, 0.5, solid);
             const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                seconds_since(t0);
             nlohmann::json report =
                 mesh_stats_json(analyze_mesh(mesh), plan.params.tiles, plan.params.units, solid);
             nlohmann::json fractions = nlohmann::json::array();

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "common/wall_clock.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "io/atomic_file.h"
@@ -240,16 +241,11 @@ int run(RunCommand& cmd, const CLI::App& app) {
     const auto t0 = std::chrono::steady_clock::now();
     surface = distributed_surface_scaffold(r.phi, ScaffoldParams{});
     extra["surface_mesh_seconds"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        seconds_since(t0);
   }
   double field_seconds = 0.0;
   if (world->distributed()) {
-    // field.pvti: every process writes its piece (collective), before rank 0's files.
-    const auto t0 = std::chrono::steady_clock::now();
-    r.phi.exchange_halo();  // the pieces share their faces: each reads its high ghosts
-    write_run_field(dir, {{"phi", &r.phi}}, cmd.float32,
-                    run_field_metadata(p, r, run_folder_report(p, r, quality, threads, extra)));
-    field_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    field_seconds = write_run_field_pieces(dir, p, r, quality, threads, cmd.float32, extra);
     // Every process's peak resident memory (the report's peak_memory_bytes is rank 0's).
     const std::vector<std::uint64_t> peaks = allgather_world({peak_memory_bytes()});
     extra["peak_memory_bytes_per_rank"] = peaks;

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 
+#include "common/wall_clock.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "io/atomic_file.h"
@@ -273,7 +274,7 @@ int run_scaffold(ScaffoldCommand& cmd) {
     phi = member_field(cmd, cmd.params, cache, member);
   }
   const double member_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds_since(t0);
   ScaffoldPart part;
   try {
     part = ramp ? design_graded_scaffold(members, d, *ramp)

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "common/wall_clock.h"
 #include "cahn_hilliard/time_step.h"
 #include "cli_common.h"
 #include "commands.h"
@@ -406,16 +407,9 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
-      if (gd->distributed()) {  // field.pvti: one piece per process of the group
-        const auto t0 = std::chrono::steady_clock::now();
-        r.phi.exchange_halo();
-        write_run_field(dir / m.name, {{"phi", &r.phi}}, cmd.float32,
-                        run_field_metadata(m.params, r,
-                                           run_folder_report(m.params, r, outputs->quality,
-                                                             threads, extra)));
-        field_seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      }
+      if (gd->distributed())  // field.pvti: one piece per process of the group
+        field_seconds = write_run_field_pieces(dir / m.name, m.params, r, outputs->quality,
+                                               threads, cmd.float32, extra);
     } catch (const std::exception& e) {
       failure = e.what();
     }
@@ -614,7 +608,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       throw std::logic_error(fmt::format("sweep: {} of {} members gathered", reports.size(),
                                          members));
     const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        seconds_since(t0);
     if (!cmd.no_plot) plot(cmd, dir);
     nlohmann::json summary = summary_of(reports.size(), wall);
     summary["complete"] = true;

@@ -25,6 +25,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "common/wall_clock.h"
 #include "cahn_hilliard/time_step.h"
 #include "io/mesh_output.h"
 #include "io/png.h"
@@ -446,7 +447,7 @@ struct Result {
                                          result.final.mean_curvature, kPageCells,
                                          quality.has_nodal);
         x["page_seconds"] =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            seconds_since(t0);
       }
       write_run_folder(dir, params, result, result.phi, quality, threads, float32, x, [&] {
         if (picture) write_png(dir / "preview.png", picture->image);

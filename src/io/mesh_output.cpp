@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/wall_clock.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
 #include "pipeline/run_options.h"
@@ -113,7 +114,7 @@ void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const Me
   report["file_bytes"] = std::filesystem::file_size(plan.out);
   report["format"] = mesh_format_extension(plan.format);
   report["write_seconds"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds_since(t0);
   report["version"] = CMCSURF_VERSION;
   report.update(extra);
   write_json_atomic(plan.out.string() + ".json", report);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/wall_clock.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
@@ -71,6 +72,16 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
   return report;
 }
 
+double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
+                              const CmcQuality& quality, int threads, bool float32,
+                              const nlohmann::json& extra) {
+  const auto t0 = WallClock::now();
+  r.phi.exchange_halo();
+  write_run_field(dir, {{"phi", &r.phi}}, float32,
+                  run_field_metadata(p, r, run_folder_report(p, r, quality, threads, extra)));
+  return seconds_since(t0);
+}
+
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra,
@@ -88,7 +99,7 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
   if (extra_files) extra_files();
   // The files before report.json; report.json itself and a page written after it are not in it.
   report["write_seconds"] =
-      field_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      field_seconds + seconds_since(t0);
   write_json_atomic(dir / "report.json", report);
   return report;
 }

@@ -35,6 +35,13 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
                                  const CmcQuality& quality, int threads,
                                  const nlohmann::json& extra = {});
 
+// A decomposed run's field.pvti with one piece per process (io/pvti.h), written by every
+// process (collective) before the group's rank 0 writes the rest with write_run_folder (an
+// empty Field and these seconds). r.phi's halo is exchanged: the pieces share their faces.
+double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
+                              const CmcQuality& quality, int threads, bool float32,
+                              const nlohmann::json& extra);
+
 // A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
 // writes (the surface mesh), and report.json (run_folder_report) last, since it marks a
 // complete run. An earlier run's outputs in dir are removed first (clear_run_outputs). phi is

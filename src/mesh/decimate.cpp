@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/wall_clock.h"
+
 namespace cmcsurf {
 
 namespace {
@@ -328,7 +330,7 @@ Decimated decimate_solid(const TriMesh& m, const DecimateParams& p) {
     if (!(tolerance > 0)) {
       d.within_budget = true;
       d.note = "the input is within the budget: nothing to decimate";
-      d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      d.seconds = seconds_since(t0);
       return d;
     }
   }
@@ -382,7 +384,7 @@ Decimated decimate_solid(const TriMesh& m, const DecimateParams& p) {
               change <= p.max_volume_change && r.triangles.size() < m.triangles.size();
     const auto t_error = std::chrono::steady_clock::now();
     const SymmetricDistance error = ok ? symmetric_distance(m, r) : SymmetricDistance{};
-    d.error_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_error).count();
+    d.error_seconds += seconds_since(t_error);
     if (p.tolerance > 0 && std::max(error.a_to_b, error.b_to_a) > p.tolerance) ok = false;
     if (ok) {
       d.module_tolerance = tolerance;
@@ -405,7 +407,7 @@ Decimated decimate_solid(const TriMesh& m, const DecimateParams& p) {
     d.note = "every attempt failed the closed/manifold/shells/volume (or tolerance) checks";
   }
   d.within_budget = p.max_triangles == 0 || d.triangles_after <= p.max_triangles;
-  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.seconds = seconds_since(t0);
   return d;
 }
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
 #include "mesh/marching_tets.h"
 
 namespace cmcsurf {
@@ -227,7 +228,7 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
       }
     }
   }
-  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t.seconds = seconds_since(t0);
   return t;
 }
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/wall_clock.h"
 #include "measure/measures.h"
 #include "measure/sharp_volume.h"
 #include "mesh/marching_tets.h"
@@ -19,7 +20,6 @@
 namespace cmcsurf {
 
 namespace {
-
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
 
@@ -266,7 +266,7 @@ Scaffold build_surface_scaffold(const PlaneFn& plane, int n, const ScaffoldParam
   Scaffold out;
   out.mesh = extract_isosurface(lat, 0.5);
   const double mesh_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds_since(t0);
   const MeshStats s = analyze_mesh(out.mesh);
   nlohmann::json& r = out.report;
   r = mesh_stats_json(s, p.tiles, p.units, false);
@@ -311,7 +311,7 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
         p.tiles, p.cell_size, 0.5, false);
   }
   const double mesh_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds_since(t0);
   const MeshStats s = analyze_mesh(out.mesh);
   nlohmann::json& r = out.report;
   r = mesh_stats_json(s, p.tiles, p.units, solid);

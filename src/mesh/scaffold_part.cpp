@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/wall_clock.h"
 #include "mesh/morphometry.h"
 #include "mesh/shape.h"
 
@@ -19,10 +20,6 @@ constexpr int kMorphometryGrid = 64;
 // A network part misses its porosity only through the box trimming the lattice (a few 1e-4
 // for whole cells); past this its level is shifted to hit the target.
 constexpr double kNetworkPorosityTol = 1e-3;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 struct Evaluation {
   double level = 0.0;

@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/wall_clock.h"
+
 #ifdef CMCSURF_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -24,7 +26,7 @@ class CommTimer {
  public:
   explicit CommTimer(double& seconds) : seconds_(seconds) {}
   ~CommTimer() {
-    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    seconds_ += seconds_since(t0_);
   }
 
  private:

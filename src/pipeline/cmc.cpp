@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "common/wall_clock.h"
 #include "measure/measures.h"
 #include "multigrid/fas.h"
 #include "pipeline/continuation.h"
@@ -16,16 +17,6 @@
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 const char* constraint_name(Constraint c) { return c == Constraint::kVolume ? "volume" : "mass"; }
 
@@ -251,7 +242,7 @@ class Evolution {
   void set_epsilon(double eps) { stepper_.set_params({eps, params_.dt(), params_.smoother}); }
 
   // Continues the step count, time and clock of an earlier (coarser) evolution.
-  void continue_after(const RunResult& earlier, Clock::time_point t0) {
+  void continue_after(const RunResult& earlier, WallClock::time_point t0) {
     if (!earlier.history.empty()) {
       step_ = earlier.history.back().step;
       time_ = earlier.history.back().time;
@@ -271,7 +262,7 @@ class Evolution {
     step_ = c.step;
     time_ = c.time;
     last_step_converged_ = c.last_step_converged;
-    t0_ = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+    t0_ = WallClock::now() - std::chrono::duration_cast<WallClock::duration>(
                              std::chrono::duration<double>(c.elapsed));
     cursor_ = c.cursor;
     const double eps = c.cursor.stage == "prerelax"
@@ -319,7 +310,7 @@ class Evolution {
       if (previous_.n() != phi.n()) previous_ = Field::like(phi, 0);
       copy_interior(phi, previous_);
     }
-    const auto ts = Clock::now();
+    const auto ts = WallClock::now();
     const StepStats s = stepper_.step(phi);
     result_.solver_seconds += seconds_since(ts);
     result_.vcycles += s.vcycles;
@@ -462,7 +453,7 @@ class Evolution {
   RunResult& result_;
   Field previous_;  // phi^n when the stepper does not keep it (allocated on first use)
   ChStepper stepper_;
-  Clock::time_point t0_ = Clock::now();
+  WallClock::time_point t0_ = WallClock::now();
   int step_ = 0;
   double time_ = 0.0;
   bool last_step_converged_ = true;
@@ -475,7 +466,7 @@ class Evolution {
 // state. The first slope is 1 (a sharp interface between bulk phases 0 and 1 moves by the
 // added mass); later slopes are secants, kept in [1/4, 4] against noise from the stop rule.
 void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& result) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   const double alpha = params.volume_fraction;
   auto record = [&](int steps) {
     result.volume_iterates.push_back(
@@ -525,7 +516,7 @@ namespace {
 
 // The sharp measures of the final field: once per run, after every stage.
 void measure_final(RunResult& r, const RunParams& params) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   // The diffuse measures are the last relaxation's (Evolution::relax ends with them, on this
   // field); the sharp ones are added.
   r.phi.exchange_halo();
@@ -623,7 +614,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
     return result;
   }
   // The clock of a run resumed on a coarser grid goes on from the checkpoint's.
-  const auto t0 = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+  const auto t0 = WallClock::now() - std::chrono::duration_cast<WallClock::duration>(
                                      std::chrono::duration<double>(
                                          context.resume ? context.resume->elapsed : 0.0));
   RunParams coarse_params = params;

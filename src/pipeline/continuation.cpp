@@ -10,13 +10,14 @@ namespace cmcsurf {
 
 namespace {
 
-// Visits every fine cell with the eight coarse values around its centre and their trilinear
-// weights. A fine cell's centre lies a quarter of a coarse cell from its parent's centre, so
-// per axis the weights are 3/4 (parent) and 1/4 (the neighbour on the fine cell's side).
+// Visits every fine cell with the eight coarse cells around its centre (at[c]: their
+// indices, corner c = x + 2 y + 4 z) and their trilinear weights; combine returns the fine
+// value. A fine cell's centre lies a quarter of a coarse cell from its parent's centre, so per
+// axis the weights are 3/4 (parent) and 1/4 (the neighbour on the fine cell's side).
 // Blocks: the fine block starts at twice the coarse block's offset (even), so i / 2 and i % 2
 // hold for block indices too.
 template <class Combine>
-void prolongate_cells(const Field& coarse, Field& fine, Combine combine) {
+void prolongate_cells(Field& fine, Combine combine) {
   const int nfx = fine.nx(), nfy = fine.ny(), nfz = fine.nz();
 #pragma omp parallel for schedule(static) if (nfx >= kParallelMinN)
   for (int k = 0; k < nfz; ++k)
@@ -24,26 +25,27 @@ void prolongate_cells(const Field& coarse, Field& fine, Combine combine) {
       for (int i = 0; i < nfx; ++i) {
         const int ci = i / 2, cj = j / 2, ck = k / 2;
         const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
-        double values[8], weights[8];
+        int at[8][3];
+        double weights[8];
         for (int c = 0; c < 8; ++c) {
           const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
           weights[c] = (a ? 0.25 : 0.75) * (b ? 0.25 : 0.75) * (d ? 0.25 : 0.75);
-          values[c] = coarse(ci + a * di, cj + b * dj, ck + d * dk);
+          at[c][0] = ci + a * di;
+          at[c][1] = cj + b * dj;
+          at[c][2] = ck + d * dk;
         }
-        fine(i, j, k) = combine(values, weights);
+        fine(i, j, k) = combine(at, weights);
       }
-}
-
-double linear(const double* values, const double* weights) {
-  double v = 0.0;
-  for (int c = 0; c < 8; ++c) v += weights[c] * values[c];
-  return v;
 }
 
 }  // namespace
 
 void prolongate_trilinear(const Field& coarse, Field& fine) {
-  prolongate_cells(coarse, fine, linear);
+  prolongate_cells(fine, [&](const int (&at)[8][3], const double (&w)[8]) {
+    double v = 0.0;
+    for (int c = 0; c < 8; ++c) v += w[c] * coarse(at[c][0], at[c][1], at[c][2]);
+    return v;
+  });
   fine.exchange_halo();
 }
 
@@ -63,23 +65,14 @@ void prolongate_profile(const Field& coarse, Field& fine) {
         }
     psi.exchange_halo();
   }
-  const int nfx = fine.nx(), nfy = fine.ny(), nfz = fine.nz();
-#pragma omp parallel for schedule(static) if (nfx >= kParallelMinN)
-  for (int k = 0; k < nfz; ++k)
-    for (int j = 0; j < nfy; ++j)
-      for (int i = 0; i < nfx; ++i) {
-        const int ci = i / 2, cj = j / 2, ck = k / 2;
-        const int di = i % 2 ? 1 : -1, dj = j % 2 ? 1 : -1, dk = k % 2 ? 1 : -1;
-        double v = 0.0, s = 0.0;
-        for (int c = 0; c < 8; ++c) {
-          const int a = c & 1, b = (c >> 1) & 1, d = (c >> 2) & 1;
-          const double w = (a ? 0.25 : 0.75) * (b ? 0.25 : 0.75) * (d ? 0.25 : 0.75);
-          const int x = ci + a * di, y = cj + b * dj, z = ck + d * dk;
-          v += w * coarse(x, y, z);
-          s += w * psi(x, y, z);  // NaN if any corner lies outside the layer
-        }
-        fine(i, j, k) = std::isnan(s) ? v : 0.5 * (1.0 + std::tanh(s));
-      }
+  prolongate_cells(fine, [&](const int (&at)[8][3], const double (&w)[8]) {
+    double v = 0.0, s = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      v += w[c] * coarse(at[c][0], at[c][1], at[c][2]);
+      s += w[c] * psi(at[c][0], at[c][1], at[c][2]);  // NaN if a corner lies outside the layer
+    }
+    return std::isnan(s) ? v : 0.5 * (1.0 + std::tanh(s));
+  });
   // Restore the coarse mean by moving the interface, not the bulk: the correction is weighted
   // by phi (1 - phi), which vanishes in both phases.
   const int nx = fine.nx(), ny = fine.ny(), nz = fine.nz();

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/wall_clock.h"
 #include "measure/sharp_surface.h"
 #include "surfaces/initial.h"
 #include "surfaces/nodal_level.h"
@@ -69,7 +70,7 @@ RunPreview make_run_preview(const Field& psi, const RunParams& p, const RunResul
   out.image = render_preview(out.surfaces.relaxed,
                              out.surfaces.has_nodal ? &out.surfaces.nodal : nullptr,
                              out.surfaces.scale, labels);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = seconds_since(t0);
   return out;
 }
 

@@ -2,20 +2,11 @@
 
 #include <chrono>
 
+#include "common/wall_clock.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,
                        const std::vector<CurvatureSample>* samples) {
@@ -26,7 +17,7 @@ CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,
 RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,
                        bool page) {
   RunOutputs out;
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   const bool kept = r.final_psi.n() == phi.n() && r.final_psi.size() == phi.size();
   const Field psi = kept ? std::move(r.final_psi) : profile_inverse(phi);
   const std::vector<CurvatureSample> samples = std::move(r.final_samples);
@@ -36,7 +27,7 @@ RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool 
   out.quality.seconds = seconds_since(t0);
   if (preview) out.preview = make_run_preview(psi, p, r, out.quality);
   if (page) {
-    const auto t1 = Clock::now();
+    const auto t1 = WallClock::now();
     out.page = preview_surfaces(psi, p.surface, out.quality.nodal_level, r.final.mean_curvature,
                                 kPageCells, out.quality.has_nodal);
     out.page_seconds = seconds_since(t1);

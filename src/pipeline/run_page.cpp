@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
 #include "io/atomic_file.h"
 #include "io/png.h"
 #include "io/pvti.h"
@@ -22,8 +23,6 @@ namespace cmcsurf {
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -105,14 +104,10 @@ std::string png_data_url(const fs::path& path) {
   return "data:image/png;base64," + base64(read_text(path));
 }
 
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 }  // namespace
 
 double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   const fs::path report_path = dir / "report.json";
   if (!fs::exists(report_path))
     throw std::runtime_error(fmt::format(
@@ -152,7 +147,7 @@ double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces) {
 }
 
 double write_sweep_page(const fs::path& dir) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   const fs::path summary_path = dir / "sweep.json";
   if (!fs::exists(summary_path))
     throw std::runtime_error(fmt::format(
@@ -232,7 +227,7 @@ double write_sweep_page(const fs::path& dir) {
 }
 
 double write_gallery(const fs::path& dir, const std::vector<GalleryMember>& members) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   std::vector<GalleryRow> rows;
   double reach = 0.0;
   std::string families;
@@ -269,7 +264,7 @@ GalleryMember gallery_member_from_folder(const fs::path& member_dir, const std::
 }
 
 double write_gallery_from_folder(const fs::path& dir) {
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   const fs::path summary_path = dir / "sweep.json";
   const nlohmann::json summary = read_json_file(summary_path);
   std::vector<std::string> surfaces;

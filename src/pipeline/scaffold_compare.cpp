@@ -3,6 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
 #include "pipeline/sweep.h"
 #include "surfaces/nodal_level.h"
 
@@ -53,7 +54,7 @@ nlohmann::json compare_with_nodal(const Field& phi, const RunParams& params,
           {"note", "the same design (box or --shape) from the nodal approximation at the "
                    "member's volume fraction (surfaces/nodal_level.h); mean curvature and its area-weighted spread in "
                    "1/" + d.units + ", sharp estimators (docs/families.md)"},
-          {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+          {"seconds", seconds_since(t0)}};
 }
 
 }  // namespace cmcsurf

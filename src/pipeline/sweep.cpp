@@ -8,6 +8,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
 #include "measure/measures.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
@@ -171,7 +172,7 @@ CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
   tanh_profile_inverse(relaxed, psi);
   CmcQuality q = measure_cmc_quality_psi(
       psi, is_nodal_surface(params.surface) ? sharp_volume_fraction(relaxed) : 0.0, params);
-  q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  q.seconds = seconds_since(t0);
   return q;
 }
 
@@ -202,7 +203,7 @@ CmcQuality measure_cmc_quality_psi(const Field& psi, double volume_fraction,
   } else {
     fill_distributions(q, relaxed_samples, nullptr, psi.decomposition());
   }
-  q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  q.seconds = seconds_since(t0);
   return q;
 }
 
