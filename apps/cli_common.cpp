@@ -38,7 +38,13 @@ std::function<std::string(const std::string&)> library_check(std::string (*check
     char* end = nullptr;
     const long long v = std::strtoll(text.c_str(), &end, 10);
     if (text.empty() || *end != '\0') return {};
-    return check(v);  // beyond long long: clamped, and refused as such
+    if (errno == ERANGE) {  // beyond long long; only a seed may still fit (unsigned 64 bits)
+      errno = 0;
+      std::strtoull(text.c_str(), nullptr, 10);
+      if (errno == ERANGE || text.find('-') != std::string::npos)
+        return fmt::format("got {}: beyond a 64-bit integer", text);
+    }
+    return check(v);  // clamped to long long: refused by the range check where it matters
   };
 }
 

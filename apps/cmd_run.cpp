@@ -43,6 +43,7 @@ struct RunCommand {
   std::string mesh_format;  // empty: no surface mesh
   PageOptions pages;        // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
+  bool force = false;             // --force: a non-empty folder cmcsurf did not write
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -64,7 +65,8 @@ void check_decomposable(const RunParams& p, const Decomposition& world) {
 // How to continue an interrupted run in dir: this executable (under mpirun with as many
 // processes) and --resume.
 std::string resume_command(const std::filesystem::path& dir, const Decomposition& world) {
-  const std::string cmd = fmt::format("{} run --resume {}", self_executable(), dir.string());
+  const std::string cmd =
+      fmt::format("{} run --resume {}", shell_quote(self_executable()), shell_quote(dir.string()));
   return world.distributed() ? fmt::format("mpirun -np {} {}", world.ranks(), cmd) : cmd;
 }
 
@@ -158,6 +160,23 @@ void print_warnings(const RunParams& p, const RunResult& r) {
         r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
 }
 
+// After a failure past the solve (no report.json was written, so the folder reads as
+// incomplete): the solved field as field.vti, if it is not there yet, and where it is.
+void keep_solved_field(const std::filesystem::path& dir, const RunParams& p, const RunResult& r,
+                       int threads, bool float32) {
+  try {
+    if (!std::filesystem::exists(dir / kRunFieldVti))
+      write_run_field(dir, {{"phi", &r.phi}}, float32,
+                      run_field_metadata(p, r, run_report(p, r, threads)));
+    std::cerr << fmt::format(
+        "note: the solved field is kept in {} (the folder has no report.json: its outputs are "
+        "incomplete); `cmcsurf mesh --from` reads it\n",
+        (dir / kRunFieldVti).string());
+  } catch (const std::exception& e) {
+    std::cerr << fmt::format("note: the solved field could not be kept either: {}\n", e.what());
+  }
+}
+
 int run(RunCommand& cmd, const CLI::App& app) {
   const bool resuming = !cmd.checkpoints.resume.empty();
   if (resuming) {
@@ -171,28 +190,37 @@ int run(RunCommand& cmd, const CLI::App& app) {
   const std::filesystem::path dir(cmd.out);
   const auto world = Decomposition::world();
   std::shared_ptr<const Checkpoint> resume;
+  if (resuming && !std::filesystem::exists(dir / kCheckpointFileName))
+    throw UsageError(fmt::format(
+        "--resume {}: no {} there ({})", dir.string(), kCheckpointFileName,
+        std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
+                                                       "--checkpoint-every 0 and killed"
+                                                     : "not a run folder"));
+  if (!resuming) {
+    // Every option is checked before the folder is claimed (claiming may create it).
+    if (world->distributed()) check_decomposable(p, *world);
+  }
+  // A grid that cannot fit is refused now, not after the solve (every process checks its own).
+  if (!resuming) refuse_if_too_large(p, *world);
+  // One writer per folder, and only a folder that is ours (or new, or empty): before any work,
+  // and before a resume reads the checkpoint another writer might be replacing.
+  const FolderClaim claim = claim_folder(
+      dir, {.kind = "run", .option = resuming ? "--resume" : "--out", .force = cmd.force}, *world);
   if (resuming) {
-    if (!std::filesystem::exists(dir / kCheckpointFileName))
-      throw UsageError(fmt::format(
-          "--resume {}: no {} there ({})", dir.string(), kCheckpointFileName,
-          std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
-                                                         "--checkpoint-every 0 and killed"
-                                                       : "not a run folder"));
     LoadedCheckpoint loaded = load_checkpoint(dir, RunEntry::kCmc, world);
     p = resumed_params(app, p, loaded.params, dir / kCheckpointFileName);
     restore_output_options(cmd, app, loaded.outputs, dir / kCheckpointFileName);
     resume = std::move(loaded.checkpoint);
+    if (world->distributed()) check_decomposable(p, *world);
+    refuse_if_too_large(p, *world);
   }
-  if (world->distributed()) check_decomposable(p, *world);
-  // Everything is checked: from here on the folder may change.
+  // Everything is checked: from here on the folder may change (it is ours: claim_folder).
   if (!resuming && world->rank() == 0) {
     clear_run_outputs(dir);  // an earlier run's report must not sit beside this one's files
     remove_checkpoint(dir / kCheckpointFileName);  // checkpoint.bin, then checkpoint.parts/
   }
-  if (world->rank() == 0) {
-    ensure_directory(dir);
+  if (world->rank() == 0)
     remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
-  }
   Progress progress(cmd.quiet);
   RunContext context([&](const StepRecord& s) { progress.step(s); });
   context.resume = resume;
@@ -223,49 +251,55 @@ int run(RunCommand& cmd, const CLI::App& app) {
   }
   progress.finish();
 
-  // Every process measures, draws and meshes on its own block; the reductions give every
-  // process the same numbers and rank 0 the pictures and the mesh. No process holds the whole
-  // grid (docs/scaling.md, "Output").
-  RunOutputs outputs = run_outputs(r.phi, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
-  const CmcQuality& quality = outputs.quality;
-  std::optional<RunPreview>& preview = outputs.preview;
-  nlohmann::json extra;
-  extra["checkpoints_written"] = sink.written();
-  extra["checkpoint_seconds"] = sink.seconds();
-  if (resume) extra["resumed_from_step"] = resume->step;
-  if (preview) extra["preview_seconds"] = preview->seconds;
-  if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
-  // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
-  std::optional<Scaffold> surface;
-  if (!cmd.mesh_format.empty()) {
-    const auto t0 = std::chrono::steady_clock::now();
-    surface = distributed_surface_scaffold(r.phi, ScaffoldParams{});
-    extra["surface_mesh_seconds"] =
-        seconds_since(t0);
+  try {
+    // Every process measures, draws and meshes on its own block; the reductions give every
+    // process the same numbers and rank 0 the pictures and the mesh. No process holds the whole
+    // grid (docs/scaling.md, "Output").
+    RunOutputs outputs = run_outputs(r.phi, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+    const CmcQuality& quality = outputs.quality;
+    std::optional<RunPreview>& preview = outputs.preview;
+    nlohmann::json extra;
+    extra["checkpoints_written"] = sink.written();
+    extra["checkpoint_seconds"] = sink.seconds();
+    if (resume) extra["resumed_from_step"] = resume->step;
+    if (preview) extra["preview_seconds"] = preview->seconds;
+    if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
+    // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
+    std::optional<Scaffold> surface;
+    if (!cmd.mesh_format.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      surface = distributed_surface_scaffold(r.phi, ScaffoldParams{});
+      extra["surface_mesh_seconds"] =
+          seconds_since(t0);
+    }
+    double field_seconds = 0.0;
+    if (world->distributed()) {
+      field_seconds = write_run_field_pieces(dir, p, r, quality, threads, cmd.float32, extra);
+      // Every process's peak resident memory (the report's peak_memory_bytes is rank 0's).
+      const std::vector<std::uint64_t> peaks = allgather_world({peak_memory_bytes()});
+      extra["peak_memory_bytes_per_rank"] = peaks;
+      extra["peak_memory_bytes_max_rank"] = *std::max_element(peaks.begin(), peaks.end());
+      extra.update(decomposition_json(*world));  // io/run_folder.h; after the last collective
+      if (world->rank() != 0) return 0;
+    } else {
+      extra.update(decomposition_json(*world));
+    }
+    const nlohmann::json report = write_run_folder(
+        dir, p, r, world->distributed() ? Field() : r.phi, quality, threads, cmd.float32, extra,
+        [&](const nlohmann::json& report_to_be) {
+          if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
+          if (preview) write_png(dir / "preview.png", preview->image);
+          if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
+        },
+        field_seconds);
+    remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
+    if (!cmd.quiet) print_summary(p, r, quality, report, dir);
+    print_warnings(p, r);
+  } catch (const std::exception&) {
+    // A late failure (memory, disk) must not lose the solve: keep the field for `mesh --from`.
+    if (!world->distributed()) keep_solved_field(dir, p, r, threads, cmd.float32);
+    throw;
   }
-  double field_seconds = 0.0;
-  if (world->distributed()) {
-    field_seconds = write_run_field_pieces(dir, p, r, quality, threads, cmd.float32, extra);
-    // Every process's peak resident memory (the report's peak_memory_bytes is rank 0's).
-    const std::vector<std::uint64_t> peaks = allgather_world({peak_memory_bytes()});
-    extra["peak_memory_bytes_per_rank"] = peaks;
-    extra["peak_memory_bytes_max_rank"] = *std::max_element(peaks.begin(), peaks.end());
-    extra.update(decomposition_json(*world));  // io/run_folder.h; after the last collective
-    if (world->rank() != 0) return 0;
-  } else {
-    extra.update(decomposition_json(*world));
-  }
-  const nlohmann::json report = write_run_folder(
-      dir, p, r, world->distributed() ? Field() : r.phi, quality, threads, cmd.float32, extra,
-      [&] {
-        if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
-        if (preview) write_png(dir / "preview.png", preview->image);
-      },
-      field_seconds);
-  if (outputs.page) write_run_page(dir, &*outputs.page);
-  remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
-  if (!cmd.quiet) print_summary(p, r, quality, report, dir);
-  print_warnings(p, r);
   if (SignalGuard::received()) {  // after the last step: the outputs were finished first
     std::cerr << "note: a signal arrived after the solve; the run folder is complete\n";
     return SignalGuard::exit_code();
@@ -283,14 +317,17 @@ CommandFn add_run_command(CLI::App& root) {
   add_threads_option(*app, cmd->threads);
   app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti; field.pvti with one piece per "
                   "process under mpirun)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(non_empty_text(), "DIR");
   app->add_flag("--float32", cmd->float32, "Write the field (field.vti or field.pvti) in single precision");
   app->add_option("--mesh", cmd->mesh_format,
                   "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
-                  "unit-cell coordinates, with surface.FORMAT.json");
+                  "unit-cell coordinates, with surface.FORMAT.json")
+      ->check(non_empty_text(), "FORMAT");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);
+  add_force_option(*app, cmd->force);
   return {app, [cmd, app]() -> int { return run(*cmd, *app); }};
 }
 

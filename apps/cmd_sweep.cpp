@@ -54,13 +54,8 @@ struct SweepCommand {
   std::string plot_script;
   PageOptions pages;  // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
+  bool force = false;             // --force: a non-empty folder cmcsurf did not write
 };
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 // scripts/plot_families.py: --plot-script, $CMCSURF_PLOT_SCRIPT, beside the executable
 // (../scripts, ../share/cmcsurf), or in the source tree this file was compiled from.
@@ -120,6 +115,11 @@ SweepParams validate(SweepCommand& cmd) {
     throw UsageError(fmt::format("--out: '{}' exists and is not a directory", cmd.out));
   sp.run = cmd.params;
   sp.continuation = cmd.continuation;
+  try {
+    check_sweep_params(sp);  // members with one name (G,G or 0.5,0.5)
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--surface, --volume-fractions: {}", e.what()));
+  }
   return sp;
 }
 
@@ -135,14 +135,14 @@ void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& qu
 
 // What the sweep writes besides the members' fields, kept in sweep.json (and each member's
 // checkpoint): `sweep --resume DIR` alone writes the folder the uninterrupted sweep would have.
+// Never which program draws the figures (--python, --plot-script): a data file that someone
+// else may have written restores options, it never chooses an executable.
 nlohmann::json output_options(const SweepCommand& cmd) {
   return {{"threads", cmd.threads},
           {"float32", cmd.float32},
           {"no_preview", cmd.pages.no_preview},
           {"no_report", cmd.pages.no_report},
           {"no_plot", cmd.no_plot},
-          {"python", cmd.python},
-          {"plot_script", cmd.plot_script},
           {"checkpoint_every", cmd.checkpoints.every}};
 }
 
@@ -198,8 +198,6 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
     r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
     r.restore("--no-report", "no_report", cmd.pages.no_report);
     r.restore("--no-plot", "no_plot", cmd.no_plot);
-    r.restore("--python", "python", cmd.python);
-    r.restore("--plot-script", "plot_script", cmd.plot_script);
     r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
     if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
       throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
@@ -270,6 +268,40 @@ std::string member_name_at(const SweepParams& sp, int index) {
                      sp.fractions[std::size_t(index % f)]);
 }
 
+// A new sweep into a folder an earlier sweep wrote: its figures, table and page go, and so do
+// the member folders the new sweep does not have (their cmcsurf outputs; a folder that then
+// holds someone else's files is kept and named). Members the new sweep has are cleared when
+// they run.
+void clear_earlier_sweep(const fs::path& dir, const SweepParams& sp) {
+  for (const char* name : {"sweep.csv", "families.png", "families.svg", "gallery.png",
+                           "report.html"}) {
+    std::error_code ec;
+    fs::remove(dir / name, ec);
+    if (ec)
+      throw std::runtime_error(fmt::format("cannot remove the earlier sweep's '{}': {}",
+                                           (dir / name).string(), ec.message()));
+  }
+  std::vector<std::string> names;
+  for (int i = 0; i < int(sp.surfaces.size() * sp.fractions.size()); ++i)
+    names.push_back(member_name_at(sp, i));
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path member = it->path();
+    std::error_code is_dir;
+    if (!it->is_directory(is_dir) || it->is_symlink(is_dir) || !is_cmcsurf_folder(member) ||
+        std::find(names.begin(), names.end(), member.filename().string()) != names.end())
+      continue;
+    const FolderClaim claim = claim_output_folder(member, {.option = "an earlier member"});
+    clear_run_outputs(member);
+    remove_checkpoint(member / kCheckpointFileName);
+    remove_stale_temporaries(member);
+    if (!remove_folder_if_only_ours(member))
+      std::cerr << fmt::format("note: kept the earlier sweep's member folder {}: it holds files "
+                               "cmcsurf did not write\n",
+                               member.string());
+  }
+}
+
 void print_plan(const SweepParams& sp, const GroupPlan& plan, const Decomposition& group) {
   std::cerr << fmt::format(
       "sweep: {} members on {} processes in {} group{} of {} (process grid {} x {} x {} each)\n",
@@ -328,6 +360,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   if (resuming) sp = resumed_sweep(app, sp, cmd, dir);
   const auto world = Decomposition::world();
   const GroupPlan gplan = plan_groups(cmd, sp, *world);
+  refuse_if_too_large(sp.run, *world, gplan.group_ranks);  // before the folder is touched
   const int threads = apply_threads(cmd.threads);
   cmd.threads = threads;  // the count in use, kept in sweep.json for a resume
   const auto t0 = std::chrono::steady_clock::now();
@@ -344,12 +377,16 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   // World rank 0 prepares the folder; every process learns whether it could before any group
   // writes into it. sweep.json first, marked incomplete, so that an interrupted sweep can be
   // resumed.
+  // One writer, and only into a folder that is ours (or new, or empty), before any work.
+  const FolderClaim claim = claim_folder(
+      dir, {.kind = "sweep", .option = resuming ? "--resume" : "--out", .force = cmd.force},
+      *world);
   std::string setup_error;
   if (world_root) {
     try {
-      ensure_directory(dir);
       remove_leftover_temporaries(dir, cmd.quiet);  // of an earlier process killed mid-write
       if (!resuming) {
+        clear_earlier_sweep(dir, sp);
         nlohmann::json started = summary_of(members, 0);
         started["complete"] = false;
         write_json_atomic(dir / "sweep.json", started);
@@ -366,12 +403,14 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   const std::shared_ptr<const Decomposition> gd = group.decomposition;
   const bool group_root = gd->rank() == 0;
   if (world->distributed() && world_root && !cmd.quiet) print_plan(sp, gplan, *gd);
-  std::string resume_cmd = fmt::format("{} sweep --resume {}", self_executable(), dir.string());
+  std::string resume_cmd = fmt::format("{} sweep --resume {}", shell_quote(self_executable()),
+                                       shell_quote(dir.string()));
   if (world->distributed()) resume_cmd = fmt::format("mpirun -np {} {}", world->ranks(), resume_cmd);
   SignalGuard signals;
   CheckpointSink sink(dir, sp.run, output_options(cmd), cmd.checkpoints.every,
                       gd->distributed() ? gd : nullptr);
   SweepMember current;
+  FolderClaim member_claim;  // the folder of the member this group's rank 0 writes
   GroupRows mine;  // the rows of this group's members (on its rank 0)
   Progress progress(cmd.quiet || !world_root);
   // An error one process of the group saw ends the group's members on all of them.
@@ -422,12 +461,12 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
         row.report = write_run_folder(
             dir / m.name, m.params, r, gd->distributed() ? Field() : r.phi, quality, threads,
             cmd.float32, extra,
-            [&] {
+            [&](const nlohmann::json& report_to_be) {
               if (preview) write_png(dir / m.name / "preview.png", preview->image);
+              if (outputs->page) write_run_page(dir / m.name, &*outputs->page, &report_to_be);
             },
             field_seconds);
         remove_checkpoint(dir / m.name / kCheckpointFileName);  // the member is complete
-        if (outputs->page) write_run_page(dir / m.name, &*outputs->page);
         if (preview)
           row.tile = GalleryMember{m.surface, m.name, m.alpha, r.final.mean_curvature,
                                    std::move(preview->surfaces.relaxed)};
@@ -460,7 +499,10 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     nlohmann::json report;
     if (group_root) {
       try {
-        if (fs::is_directory(mdir)) remove_leftover_temporaries(mdir, cmd.quiet);
+        // One writer per member folder too (a second sweep, a run pointed into it).
+        member_claim = claim_output_folder(
+            mdir, {.kind = "run", .option = "member folder", .force = cmd.force});
+        remove_leftover_temporaries(mdir, cmd.quiet);
         if (resuming && fs::exists(mdir / kCheckpointFileName)) {
           decision = kResume;
         } else if (resuming && fs::exists(mdir / "report.json")) {
@@ -472,7 +514,6 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
             decision = kSkip;
         }
         if (decision == kRun) {
-          ensure_directory(mdir);
           clear_run_outputs(mdir);
           remove_checkpoint(mdir / kCheckpointFileName);
         }
@@ -654,13 +695,16 @@ CommandFn add_sweep_command(CLI::App& root) {
                   "(families) up to the rank count, in as few rounds, with blocks that split "
                   "the grid")
       ->capture_default_str();
-  app->add_option("--out", cmd->out, "Output directory")->capture_default_str();
+  app->add_option("--out", cmd->out, "Output directory")
+      ->capture_default_str()
+      ->check(non_empty_text(), "DIR");
   app->add_flag("--float32", cmd->float32, "Write each member's field (field.vti, or field.pvti under a group of several "
                 "processes) in single precision");
   app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
   app->add_option("--python", cmd->python, "Python with matplotlib for the figures")
       ->capture_default_str();
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
+  add_force_option(*app, cmd->force);
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);

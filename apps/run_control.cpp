@@ -61,6 +61,12 @@ SignalGuard::~SignalGuard() {
 
 int SignalGuard::received() { return int(g_signal); }
 
+std::function<std::string(const std::string&)> non_empty_text() {
+  return [](const std::string& text) -> std::string {
+    return text.empty() ? "an empty value; accepted: a non-empty name" : "";
+  };
+}
+
 void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with_resume) {
   app.add_option("--checkpoint-every", options.every,
                  fmt::format("Write checkpoint.bin into the output folder every SECONDS of the "
@@ -68,13 +74,21 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
                              "shorter than the interval write none, and SIGINT/SIGTERM always "
                              "write one). Removed when the run completes"))
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(
+          [](const std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0') return {};  // left to CLI11's conversion
+            return v >= 0.0 && v <= 1e9 ? "" : fmt::format("got {}; accepted: 0 to 1e9", text);
+          },
+          "0 <= SECONDS <= 1e9");
   if (with_resume)
     app.add_option("--resume", options.resume,
                    "Continue the interrupted run in DIR from DIR/checkpoint.bin, to the same "
                    "result as if it had not stopped; its parameters come from the checkpoint "
                    "(options given must agree with them). A sweep skips its complete members "
-                   "and resumes the interrupted one");
+                   "and resumes the interrupted one")
+        ->check(non_empty_text(), "DIR");
 }
 
 CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, nlohmann::json outputs,
@@ -227,6 +241,50 @@ void OutputRestorer::throw_bad(const char* key) const {
   throw UsageError(fmt::format("--resume: {}: output option '{}' is {}, not a value of its "
                                "type",
                                file_.string(), key, saved_.at(key).dump()));
+}
+
+FolderClaim claim_folder(const fs::path& dir, const ClaimOptions& options,
+                         const Decomposition& world) {
+  FolderClaim claim;
+  std::string error;
+  int code = 0;
+  if (world.rank() == 0) {
+    try {
+      claim = claim_output_folder(dir, options);
+    } catch (const FolderRefused& e) {
+      error = e.what();
+      code = e.usage() ? kExitUsage : kExitFailure;
+    }
+  }
+  if (world.distributed()) {
+    code = world.max_exit_code(code);
+    error = world.first_error(error);
+  }
+  if (code == kExitUsage) throw UsageError(error);
+  if (code != 0) throw std::runtime_error(error);
+  return claim;
+}
+
+void refuse_if_too_large(const RunParams& p, const Decomposition& world, int ranks) {
+  std::string why = check_run_memory(p, ranks > 0 ? ranks : world.ranks());
+  if (world.distributed()) why = world.first_error(why);
+  if (!why.empty()) throw UsageError(why);
+}
+
+void add_force_option(CLI::App& app, bool& force) {
+  app.add_flag("--force", force,
+               "Write into a non-empty folder that cmcsurf did not write (its files with "
+               "cmcsurf's output names are replaced); without it such a folder is refused");
+}
+
+std::string shell_quote(const std::string& word) {
+  const bool plain = !word.empty() && word.find_first_not_of(
+                                          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                          "0123456789_-+=./:,@%") == std::string::npos;
+  if (plain) return word;
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
 }
 
 void remove_leftover_temporaries(const fs::path& dir, bool quiet) {

@@ -5,11 +5,13 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "io/checkpoint.h"
+#include "io/output_folder.h"
 #include "parallel/decomposition.h"
 #include "pipeline/cmc.h"
 
@@ -112,6 +114,27 @@ class OutputRestorer {
   const nlohmann::json& saved_;
   std::filesystem::path file_;
 };
+
+// Claims an output folder (io/output_folder.h) on the world's rank 0, before any work; every
+// process learns of a refusal (collective): a UsageError for a wrong choice of folder (exit 2),
+// std::runtime_error when another writer holds it or it cannot be written (exit 1). Other
+// processes get an empty claim.
+FolderClaim claim_folder(const std::filesystem::path& dir, const ClaimOptions& options,
+                         const Decomposition& world);
+
+// A CLI11 check refusing "" (an option given with an empty value is an error, never ignored).
+std::function<std::string(const std::string&)> non_empty_text();
+
+// Refuses (UsageError, on every process alike: collective) a run whose memory estimate does
+// not fit what some process may still take (pipeline/run_options.h, check_run_memory).
+// `ranks`: the processes one run is split over (0: all of world's).
+void refuse_if_too_large(const RunParams& p, const Decomposition& world, int ranks = 0);
+
+// --force for run and sweep: write into a non-empty folder that cmcsurf did not write.
+void add_force_option(CLI::App& app, bool& force);
+
+// A command line a user can paste into a POSIX shell: each word single-quoted where needed.
+std::string shell_quote(const std::string& word);
 
 // Removes what a writer killed before its commit left in dir (io/atomic_file.h), saying so.
 void remove_leftover_temporaries(const std::filesystem::path& dir, bool quiet);

@@ -24,7 +24,7 @@ class Result:
         """history.csv's columns: step, stage, time, area, d_area, d_phi, energy, mass,
         vcycles, residual, elapsed, dt (int64 / float64 / str arrays), one row per time step."""
     def save(self, dir: Union[str, PathLike[str]], float32: bool = False, preview: bool = True,
-             report: bool = True) -> Path:
+             report: bool = True, force: bool = False) -> Path:
         """Writes the run folder as `cmcsurf run --out dir` does: history.csv,
         curvature_histogram.csv, field.vti (float32: single precision), preview.png (unless
         preview=False, as --no-preview), report.json last (with preview_seconds) and

@@ -29,6 +29,7 @@
 #include "cahn_hilliard/time_step.h"
 #include "io/mesh_output.h"
 #include "io/png.h"
+#include "io/output_folder.h"
 #include "io/run_folder.h"
 #include "io/run_report.h"
 #include "measure/sharp_volume.h"
@@ -426,12 +427,21 @@ struct Result {
   // (--no-preview: preview=False), write_run_folder, then report.html (--no-report:
   // report=False) from the folder's files, as the CLI does.
   py::object save(const std::filesystem::path& dir, py::handle float32_arg,
-                  py::handle preview_arg, py::handle report_arg) {
+                  py::handle preview_arg, py::handle report_arg, py::handle force_arg) {
     const bool float32 = bool_option(float32_arg, "float32");
     const bool preview = bool_option(preview_arg, "preview");
     const bool page = bool_option(report_arg, "report");
+    const bool force = bool_option(force_arg, "force");
     {
       py::gil_scoped_release release;
+      // Ours, or new or empty, and one writer at a time (io/output_folder.h); before any work.
+      FolderClaim claim;
+      try {
+        claim = claim_output_folder(dir, {.kind = "run", .option = "dir", .force = force});
+      } catch (const FolderRefused& e) {
+        if (e.usage()) throw py::value_error(e.what());
+        throw;
+      }
       std::optional<RunPreview> picture;
       nlohmann::json x = extra;
       std::optional<Field> psi;
@@ -449,10 +459,11 @@ struct Result {
         x["page_seconds"] =
             seconds_since(t0);
       }
-      write_run_folder(dir, params, result, result.phi, quality, threads, float32, x, [&] {
-        if (picture) write_png(dir / "preview.png", picture->image);
-      });
-      if (page) write_run_page(dir, &*page_surfaces);
+      write_run_folder(dir, params, result, result.phi, quality, threads, float32, x,
+                       [&](const nlohmann::json& report_to_be) {
+                         if (picture) write_png(dir / "preview.png", picture->image);
+                         if (page) write_run_page(dir, &*page_surfaces, &report_to_be);
+                       });
     }
     return to_path(dir);
   }
@@ -616,6 +627,11 @@ py::tuple sweep(const std::string& surfaces, const std::string& fractions,
     throw py::value_error(fmt::format("--volume-fractions: {}", e.what()));
   }
   sp.continuation = bool_option(continuation, "continuation");
+  try {
+    check_sweep_params(sp);  // members with one name (G,G or 0.5,0.5)
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(fmt::format("surfaces, volume_fractions: {}", e.what()));
+  }
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   std::vector<std::shared_ptr<Result>> results;
@@ -733,14 +749,16 @@ step, vcycles (int64); stage (str); time, dt, area, d_area, d_phi, energy, mass,
 elapsed, volume_fraction (float64).)";
 
 constexpr const char* kResultSaveDoc =
-    R"(save(dir, float32=False, preview=True, report=True) -> pathlib.Path
+    R"(save(dir, float32=False, preview=True, report=True, force=False) -> pathlib.Path
 
 Writes the run folder exactly as `cmcsurf run --out dir` does: history.csv,
 curvature_histogram.csv, field.vti (float32=True: single precision, as --float32),
 preview.png, report.json (last; with preview_seconds) and report.html. preview=False is
 --no-preview (no preview.png), report=False is --no-report (no report.html; `cmcsurf report
-dir` writes it later). An earlier run's outputs in dir are removed first. Returns dir as a
-pathlib.Path.)";
+dir` writes it later). An earlier run's outputs in dir are removed first. dir must be new,
+empty or a cmcsurf folder (force=True writes into another non-empty folder, as --force), and
+no other process may be writing it (ValueError / RuntimeError otherwise, before anything is
+written). Returns dir as a pathlib.Path.)";
 
 constexpr const char* kMeshDoc = R"(A watertight triangle mesh of a field, made by cmcsurf.mesh.
 
@@ -798,7 +816,8 @@ PYBIND11_MODULE(_cmcsurf, m) {
       .def_property_readonly("report", &Result::report_dict, kResultReportDoc)
       .def_property_readonly("history", &Result::history, kResultHistoryDoc)
       .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false,
-           py::arg("preview") = true, py::arg("report") = true, kResultSaveDoc);
+           py::arg("preview") = true, py::arg("report") = true, py::arg("force") = false,
+           kResultSaveDoc);
   py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh", kMeshDoc)
       .def_property_readonly("vertices", &Mesh::vertices, kMeshVerticesDoc)
       .def_property_readonly("faces", &Mesh::faces, kMeshFacesDoc)

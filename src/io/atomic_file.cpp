@@ -21,7 +21,7 @@ namespace {
 std::filesystem::path temp_name_for(const std::filesystem::path& target) {
   static std::atomic<unsigned long> seq{0};
   std::filesystem::path temp = target;
-  temp += fmt::format(".tmp.{}.{}", static_cast<long>(::getpid()), seq++);
+  temp += fmt::format(".cmcsurf-tmp.{}.{}", static_cast<long>(::getpid()), seq++);
   return temp;
 }
 
@@ -60,8 +60,12 @@ AtomicWriter::~AtomicWriter() {
   std::filesystem::remove(temp_, ec);  // best effort; destructors do not throw
 }
 
-void AtomicWriter::commit() {
-  if (committed_) throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
+std::filesystem::path temporary_name(const std::filesystem::path& target) {
+  return temp_name_for(target);
+}
+
+void AtomicWriter::finish_writing() {
+  if (finished_) return;
   // A stream that failed while the caller wrote to it still holds that write's errno (ENOSPC
   // on a full disk), unless something else ran since; keep it before flushing.
   const int earlier_err = errno;
@@ -87,6 +91,12 @@ void AtomicWriter::commit() {
   if (const int err = sync_path(temp_, false); err != 0)
     throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): fsync: {}",
                                          target_.string(), temp_.string(), std::strerror(err)));
+  finished_ = true;
+}
+
+void AtomicWriter::commit() {
+  if (committed_) throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
+  finish_writing();
   if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
     const int err = errno;
     throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", temp_.string(),
@@ -108,7 +118,7 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 }
 
 int remove_stale_temporaries(const std::filesystem::path& dir) {
-  static const std::regex temporary(R"(.+\.tmp\.(\d+)\.\d+)");
+  static const std::regex temporary(R"(.+\.cmcsurf-tmp\.(\d+)\.\d+)");
   std::error_code ec;
   int removed = 0;
   for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {

@@ -27,19 +27,28 @@ class AtomicWriter {
   // Flushes, closes, syncs (fsync) and renames the temporary onto the target, then syncs the
   // directory so that the new name survives a power cut too.
   void commit();
+  // The first half of commit(): the whole file is on the disk under its temporary name (a full
+  // disk fails here). For two files that must appear together: finish both, then commit both.
+  void finish_writing();
 
  private:
   std::filesystem::path target_;
-  std::filesystem::path temp_;  // "<target>.tmp.<pid>.<seq>", same directory
+  std::filesystem::path temp_;  // "<target>.cmcsurf-tmp.<pid>.<seq>", same directory
   std::ofstream out_;
   bool committed_ = false;
+  bool finished_ = false;
 };
+
+// A fresh temporary name beside target (`<target>.cmcsurf-tmp.<pid>.<seq>`), for a writer that
+// must write the file itself (a library given a path); remove_stale_temporaries knows it.
+std::filesystem::path temporary_name(const std::filesystem::path& target);
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view contents);
 
-// Removes the temporaries (`<name>.tmp.<pid>.<seq>`) that a writer killed before its commit
-// (kill -9, a second signal) left directly in dir: those of this process and of processes that
-// no longer exist. Returns how many; errors are ignored (best effort).
+// Removes the temporaries (`<name>.cmcsurf-tmp.<pid>.<seq>`: ours by name, never a user's
+// `x.tmp.1.2`) that a writer killed before its commit (kill -9, a second signal) left directly
+// in dir: those of this process and of processes that no longer exist. Call it only on a
+// folder cmcsurf owns (io/output_folder.h). Returns how many; errors are ignored.
 int remove_stale_temporaries(const std::filesystem::path& dir);
 
 // Creates `dir` and its parents; fine if it already is a directory. Throws

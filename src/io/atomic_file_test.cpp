@@ -109,21 +109,23 @@ TEST(IoAtomicFile, EnsureDirectory) {
 }
 
 // What a writer killed before its commit leaves: removed when its process is gone (or is this
-// one); another live process's temporary and every other file stay.
+// one); another live process's temporary, a user's file that merely looks like a temporary
+// (thesis.tmp.99999.1) and every other file stay.
 TEST(IoAtomicFile, StaleTemporariesAreRemoved) {
   TempDir tmp;
   const std::string mine = std::to_string(::getpid());
-  const std::vector<std::string> gone = {"checkpoint.bin.tmp." + mine + ".0",
-                                         "field.vti.tmp.2147483647.3"};
-  const std::vector<std::string> kept = {"report.json.tmp.1.0",  // pid 1 is alive
-                                         "report.json", "notes.tmp", "x.tmp.a.b"};
+  const std::vector<std::string> gone = {"checkpoint.bin.cmcsurf-tmp." + mine + ".0",
+                                         "field.vti.cmcsurf-tmp.2147483647.3"};
+  const std::vector<std::string> kept = {"report.json.cmcsurf-tmp.1.0",  // pid 1 is alive
+                                         "report.json", "notes.tmp", "x.tmp.a.b",
+                                         "thesis.tmp.2147483647.1", "field.vti.tmp." + mine + ".0"};
   for (const auto& names : {gone, kept})
     for (const std::string& name : names) std::ofstream(tmp / name) << "partial";
-  std::filesystem::create_directories(tmp / "sub.tmp.2147483647.1");  // not a file
+  std::filesystem::create_directories(tmp / "sub.cmcsurf-tmp.2147483647.1");  // not a file
   EXPECT_EQ(remove_stale_temporaries(tmp.dir()), 2);
   for (const std::string& name : gone) EXPECT_FALSE(std::filesystem::exists(tmp / name)) << name;
   for (const std::string& name : kept) EXPECT_TRUE(std::filesystem::exists(tmp / name)) << name;
-  EXPECT_TRUE(std::filesystem::exists(tmp / "sub.tmp.2147483647.1"));
+  EXPECT_TRUE(std::filesystem::exists(tmp / "sub.cmcsurf-tmp.2147483647.1"));
   EXPECT_EQ(remove_stale_temporaries(tmp / "missing"), 0);
 }
 

@@ -108,16 +108,35 @@ MeshPlan plan_mesh_output(const MeshOutputOptions& s, int n) {
 void write_mesh_with_report(const TriMesh& mesh, nlohmann::json report, const MeshPlan& plan,
                             const nlohmann::json& extra) {
   const auto t0 = std::chrono::steady_clock::now();
+  namespace fs = std::filesystem;
   if (plan.out.has_parent_path()) ensure_directory(plan.out.parent_path());
-  write_mesh(plan.out, plan.format, mesh, plan.params.units, plan.meta);
+  // FILE.json marks FILE complete: both are written whole under temporary names first, then
+  // FILE is renamed into place and FILE.json after it, so a failure (a full disk) leaves
+  // neither new file, and never a FILE.json beside a FILE it does not describe.
+  const fs::path mesh_temp = temporary_name(plan.out);
+  struct RemoveOnExit {
+    fs::path path;
+    ~RemoveOnExit() {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
+  } cleanup{mesh_temp};
+  write_mesh(mesh_temp, plan.format, mesh, plan.params.units, plan.meta);
   report["file"] = plan.out.filename().string();
-  report["file_bytes"] = std::filesystem::file_size(plan.out);
+  report["file_bytes"] = fs::file_size(mesh_temp);
   report["format"] = mesh_format_extension(plan.format);
-  report["write_seconds"] =
-      seconds_since(t0);
+  report["write_seconds"] = seconds_since(t0);
   report["version"] = CMCSURF_VERSION;
   report.update(extra);
-  write_json_atomic(plan.out.string() + ".json", report);
+  AtomicWriter json(plan.out.string() + ".json");
+  json.stream() << report.dump(2) << '\n';
+  json.finish_writing();
+  std::error_code ec;
+  fs::rename(mesh_temp, plan.out, ec);
+  if (ec)
+    throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", mesh_temp.string(),
+                                         plan.out.string(), ec.message()));
+  json.commit();
 }
 
 void write_run_surface_mesh(const std::filesystem::path& dir, const Field& phi,

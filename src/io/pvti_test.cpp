@@ -113,14 +113,14 @@ TEST(IoPvti, RunFolderHoldsOneFieldFile) {
   }
   // Stale pieces of an earlier, larger write go with their summary; other files stay.
   spit(tmp / "field" / "piece_0007.vti", "stale");
-  spit(tmp / "field" / "piece_0001.vti.tmp.99999999.0", "killed writer");
+  spit(tmp / "field" / "piece_0001.vti.cmcsurf-tmp.99999999.0", "killed writer");
   spit(tmp / "field" / "notes.txt", "mine");
   remove_run_field(tmp.dir());
   EXPECT_FALSE(std::filesystem::exists(tmp / kRunFieldVti));
   EXPECT_FALSE(std::filesystem::exists(tmp / kRunFieldPvti));
   EXPECT_FALSE(std::filesystem::exists(tmp / "field" / "piece_0000.vti"));
   EXPECT_FALSE(std::filesystem::exists(tmp / "field" / "piece_0007.vti"));
-  EXPECT_FALSE(std::filesystem::exists(tmp / "field" / "piece_0001.vti.tmp.99999999.0"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "field" / "piece_0001.vti.cmcsurf-tmp.99999999.0"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "field" / "notes.txt"));
   std::filesystem::remove(tmp / "field" / "notes.txt");
   write_pvti(tmp / kRunFieldPvti, {{"phi", &phi}});

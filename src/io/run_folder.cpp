@@ -85,7 +85,7 @@ double write_run_field_pieces(const std::filesystem::path& dir, const RunParams&
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra,
-                                const std::function<void()>& extra_files,
+                                const std::function<void(const nlohmann::json&)>& extra_files,
                                 double field_seconds) {
   nlohmann::json report = run_folder_report(p, r, quality, threads, extra);
   const auto t0 = std::chrono::steady_clock::now();
@@ -96,7 +96,7 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
   write_history_csv(dir / "history.csv", r.history);
   if (!field_written)
     write_run_field(dir, {{"phi", &phi}}, float32, run_field_metadata(p, r, report));
-  if (extra_files) extra_files();
+  if (extra_files) extra_files(report);
   // The files before report.json; report.json itself and a page written after it are not in it.
   report["write_seconds"] =
       field_seconds + seconds_since(t0);

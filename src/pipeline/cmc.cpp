@@ -526,6 +526,13 @@ void measure_final(RunResult& r, const RunParams& params) {
   tanh_profile_inverse(r.phi, r.final_psi);
   add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
   r.measure_seconds = seconds_since(t0);
+  if (!(r.final.area > 0.0))
+    throw NoSurface(fmt::format(
+        "the final field has no surface: phi > 1/2 {} (sharp volume fraction {:.6g}, target "
+        "{:.6g}); a volume fraction too close to 0 or 1 for --grid {}, or a formula without a "
+        "zero level, leaves no interface to relax",
+        r.final.volume_fraction > 0.5 ? "everywhere" : "nowhere", r.final.volume_fraction,
+        params.volume_fraction, params.grid));
 }
 
 // Step 6 (unless a checkpoint was taken after it) and, with hold_volume, the volume

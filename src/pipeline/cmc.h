@@ -195,6 +195,13 @@ struct Checkpoint {
 
 enum class RunControl { kContinue, kCheckpoint, kStop };
 
+// Thrown when a run's final field has no phi = 1/2 surface (the whole cell in one phase): a
+// result with area 0 is not a CMC surface, whatever the stop rule said.
+class NoSurface : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Thrown by a run whose RunContext::control said kStop before a time step; carries the
 // checkpoint of that moment (the run's result so far is in it).
 class RunInterrupted : public std::runtime_error {

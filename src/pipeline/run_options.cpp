@@ -1,10 +1,12 @@
 #include "pipeline/run_options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "multigrid/fas.h"
+#include "parallel/memory.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -32,7 +34,8 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
     if (!s.extrapolate_given) p.solver.extrapolate = true;
     if (!s.settle_tol_given) p.settle_tol = kFastSettleTol;
     if (!s.mg_rtol_finest_given) p.mg_rtol_finest = kFastMgRtolFinest;
-    if (!s.coarse_levels_given && check_coarsenable(p.grid).empty())
+    if (!s.coarse_levels_given && check_coarsenable(p.grid).empty() &&
+        (!check_surface || is_nodal_surface(p.surface)))
       p.coarse_levels = fast_coarse_levels(p.grid);
   }
   if (s.stop == "area")
@@ -57,6 +60,38 @@ void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
   check_run_params(p, check_surface);
 }
 
+std::string check_fraction_on_grid(double alpha, int grid) {
+  const double cells = double(grid) * grid * grid;
+  if (alpha * cells >= 1.0 && (1.0 - alpha) * cells >= 1.0) return {};
+  return fmt::format("got {} at --grid {}; accepted: 1/N^3 <= A <= 1 - 1/N^3 (at least one "
+                     "cell of each phase; {:.3g} to {:.9g} here)",
+                     alpha, grid, 1.0 / cells, 1.0 - 1.0 / cells);
+}
+
+std::uint64_t estimate_run_bytes(const RunParams& p, int ranks) {
+  const double cells = double(p.grid) * p.grid * p.grid / std::max(ranks, 1);
+  const double per_cell = p.solver.extrapolate ? 112.0 : 96.0;
+  return std::uint64_t(cells * per_cell) + (std::uint64_t(64) << 20);
+}
+
+std::string check_run_memory(const RunParams& p, int ranks) {
+  const MemoryHeadroom room = memory_headroom();
+  const std::uint64_t need = estimate_run_bytes(p, ranks);
+  if (need <= room.bytes) return {};
+  int fits = 0;
+  for (int n = p.grid - 1; n >= 8 && fits == 0; --n) {
+    RunParams q = p;
+    q.grid = n;
+    if (check_coarsenable(n).empty() && estimate_run_bytes(q, ranks) <= room.bytes) fits = n;
+  }
+  return fmt::format("--grid {}: the run needs about {}{} but this process may take only {} "
+                     "more ({}); {}",
+                     p.grid, format_bytes(need), ranks > 1 ? " per process" : "",
+                     format_bytes(room.bytes), room.source,
+                     fits > 0 ? fmt::format("--grid {} fits", fits)
+                              : std::string("not even --grid 8 fits"));
+}
+
 void check_run_params(const RunParams& p, bool check_surface) {
   if (check_surface) {
     try {
@@ -66,7 +101,15 @@ void check_run_params(const RunParams& p, bool check_surface) {
     }
     require(p.volume_fraction > 0.0 && p.volume_fraction < 1.0, "--volume-fraction",
             p.volume_fraction, "0 < A < 1");
+    // The continuation coarsens the nodal formula; sphere, cube and noise have none to coarsen.
+    if (p.coarse_levels > 0 && !is_nodal_surface(p.surface))
+      throw OptionError(fmt::format("--coarse-levels: got {} for --surface {}; accepted: 0 (the "
+                                    "coarse-to-fine continuation starts from a nodal formula)",
+                                    p.coarse_levels, p.surface));
   }
+  if (const std::string why = check_fraction_on_grid(p.volume_fraction, p.grid);
+      check_surface && !why.empty())
+    throw OptionError("--volume-fraction: " + why);
   const std::string grid_problem = check_coarsenable(p.grid);
   if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
   require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");

@@ -3,6 +3,7 @@
 // the option and what is accepted). Shared by apps/ (cmcsurf run, sweep) and python/.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -45,5 +46,16 @@ void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface);
 // The range checks alone (those of finish_run_params, plus the parameters the command line
 // does not set): for parameters read back from a checkpoint or sweep.json. Throws OptionError.
 void check_run_params(const RunParams& p, bool check_surface);
+// Why alpha cannot be a volume fraction on an N^3 grid ("" when it can): each phase needs at
+// least one cell, or no surface is left to relax.
+std::string check_fraction_on_grid(double alpha, int grid);
+
+// The peak resident memory of a run's whole command on each of `ranks` processes, from the
+// measured model of docs/performance.md ("Memory"): 112 bytes per cell with --extrapolate's two
+// extra fields, 96 without, plus 64 MB for the process itself.
+std::uint64_t estimate_run_bytes(const RunParams& p, int ranks = 1);
+// "" when that estimate fits the memory this process may still take (parallel/memory.h);
+// otherwise why not, naming --grid, both figures, the limit and the largest grid that fits.
+std::string check_run_memory(const RunParams& p, int ranks = 1);
 
 }  // namespace cmcsurf

@@ -106,13 +106,14 @@ std::string png_data_url(const fs::path& path) {
 
 }  // namespace
 
-double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces) {
+double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces,
+                      const nlohmann::json* given_report) {
   const auto t0 = WallClock::now();
   const fs::path report_path = dir / "report.json";
-  if (!fs::exists(report_path))
+  if (!given_report && !fs::exists(report_path))
     throw std::runtime_error(fmt::format(
         "'{}' has no report.json: not a complete run folder (a run writes it last)", dir.string()));
-  const nlohmann::json report = read_json_file(report_path);
+  const nlohmann::json report = given_report ? *given_report : read_json_file(report_path);
   const nlohmann::json history = read_csv_columns(dir / "history.csv");
   const nlohmann::json histogram = read_csv_columns(dir / "curvature_histogram.csv");
   const std::string surface = report.value("surface", std::string("?"));

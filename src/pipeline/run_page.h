@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "pipeline/preview.h"
 #include "render/draw_surface.h"
 
@@ -17,8 +19,10 @@ namespace cmcsurf {
 // Writes dir/report.html for a run folder; returns its wall time in seconds. Throws
 // std::runtime_error naming the file that is missing or unreadable. `surfaces`: the page's
 // meshes (kPageCells) when the caller computed them (run_outputs); otherwise they are drawn
-// from the folder's field.vti.
-double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* surfaces = nullptr);
+// from the folder's field.vti. `report`: the run's report.json when the caller has it and has
+// not written it yet (a run writes report.json last, after this page), else it is read.
+double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* surfaces = nullptr,
+                      const nlohmann::json* report = nullptr);
 // Writes dir/report.html for a sweep folder (sweep.json beside the member folders).
 double write_sweep_page(const std::filesystem::path& dir);
 

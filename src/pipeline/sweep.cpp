@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -134,7 +135,24 @@ void check_sweep_params(const SweepParams& params) {
   if (params.fractions.empty() || int(params.fractions.size()) > kMaxMembers)
     throw std::invalid_argument(fmt::format("{} volume fractions; accepted: 1 to {}",
                                             params.fractions.size(), kMaxMembers));
-  for (double v : params.fractions) check_fraction(v, "volume_fractions");
+  for (double v : params.fractions) {
+    check_fraction(v, "volume_fractions");
+    if (const std::string why = check_fraction_on_grid(v, params.run.grid);
+        params.run.grid >= 8 && !why.empty())
+      throw std::invalid_argument(why);
+  }
+  // Each member has a folder of its own: two with one name would write into one folder.
+  std::vector<std::string> names;
+  for (std::size_t s = 0; s < params.surfaces.size(); ++s)
+    for (double alpha : params.fractions) {
+      const std::string name = member_name(params.surfaces[s], int(s), alpha);
+      if (std::find(names.begin(), names.end(), name) != names.end())
+        throw std::invalid_argument(fmt::format(
+            "two members named '{}' (surface {}, volume fraction {}): each surface and each "
+            "volume fraction may be given once",
+            name, params.surfaces[s], alpha));
+      names.push_back(name);
+    }
   try {
     check_run_params(params.run, false);
   } catch (const OptionError& e) {

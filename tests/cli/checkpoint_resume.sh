@@ -84,10 +84,10 @@ assert r['checkpoint']['stage'] == 'relax', r['checkpoint']
 
   [ $sig = INT ] && break  # its checkpoint is damaged below
   # What a process killed while writing leaves (a dead pid's temporary): the resume removes it.
-  echo partial >"$out/checkpoint.bin.tmp.2147483647.0"
+  echo partial >"$out/checkpoint.bin.cmcsurf-tmp.2147483647.0"
   $hint --quiet || { echo "FAIL: the printed resume command after SIG$sig"; fail=1; }
   same_as_whole "$out"
-  [ ! -e "$out/checkpoint.bin.tmp.2147483647.0" ] || { echo "FAIL: stale temporary kept"; fail=1; }
+  [ ! -e "$out/checkpoint.bin.cmcsurf-tmp.2147483647.0" ] || { echo "FAIL: stale temporary kept"; fail=1; }
 done
 
 # kill -9 after a periodic checkpoint: the resumed run still ends on the same bits.

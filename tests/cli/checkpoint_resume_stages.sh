@@ -144,7 +144,7 @@ if "field.vti" in names:  # only ever complete under its final name
     check(open(f"{out}/field.vti", "rb").read().rstrip().endswith(b"</VTKFile>"), "partial field.vti")
 r = subprocess.run([bin, "run", "--resume", out], capture_output=True, text=True)
 check(r.returncode == 0, f"resume after kill -9 during the outputs: {r.stderr}")
-left = [n for n in os.listdir(out) if ".tmp." in n or n == "checkpoint.bin"]
+left = [n for n in os.listdir(out) if ".cmcsurf-tmp." in n or n == "checkpoint.bin"]
 check(not left, f"left after the resume: {left}")
 print("killed while writing:", names)
 
@@ -152,7 +152,7 @@ out = f"{work}/twice"
 p = subprocess.Popen([bin, "run", "--surface", "G", "--grid", "96", "--extrapolate",
                       "--checkpoint-every", "0.5", "--no-preview", "--no-report", "--quiet",
                       "--out", out])
-temporary = lambda: glob.glob(f"{out}/checkpoint.bin.tmp.*")
+temporary = lambda: glob.glob(f"{out}/checkpoint.bin.cmcsurf-tmp.*")
 # A periodic checkpoint in place and none being written: then the signal's is the next.
 check(wait_for(lambda: os.path.exists(f"{out}/checkpoint.bin") and not temporary(), p),
       "no periodic checkpoint")

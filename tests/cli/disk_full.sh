@@ -11,10 +11,10 @@ mkdir -p "$work/small"
 if ! mount -t tmpfs -o size=200k tmpfs "$work/small" 2>/dev/null; then
   rm -rf "$work"
   echo "disk_full: skipped (cannot mount a tmpfs here)"
-  exit 0
+  exit 77
 fi
 mkdir -p "$work/tiny"
-mount -t tmpfs -o size=100k tmpfs "$work/tiny"
+mount -t tmpfs -o size=108k tmpfs "$work/tiny"
 trap 'umount "$work/small" "$work/tiny"; rm -rf "$work"' EXIT
 fail=0
 "$bin" run --surface G --grid 32 --max-steps 3 --quiet --out "$work/small/run" 2>"$work/err"
@@ -25,7 +25,33 @@ grep -q "No space left on device" "$work/err" || { echo "FAIL: message: $(cat "$
 [ -e "$work/small/run/field.vti" ] && { echo "FAIL: a partial field.vti under its final name"; fail=1; }
 if ls "$work/small/run" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$work/small/run")"; fail=1; fi
 
-# On 100 KB, a checkpoint does not fit (24^3: phi alone is 110 KB) but the outputs do (a
+# report.json is written last: a disk that fills while report.html (800 KB here) is written
+# leaves no report.json, and the solved field is kept.
+mkdir -p "$work/page"
+mount -t tmpfs -o size=300k tmpfs "$work/page"
+"$bin" run --surface G --grid 16 --epsilon 0.04 --no-preview --quiet --out "$work/page/run" \
+  2>"$work/err"
+rc=$?
+[ "$rc" = 1 ] && grep -q "report.html.*No space left" "$work/err" ||
+  { echo "FAIL: full disk at report.html: exit $rc"; cat "$work/err"; fail=1; }
+[ ! -e "$work/page/run/report.json" ] || { echo "FAIL: report.json beside no report.html"; fail=1; }
+[ -s "$work/page/run/field.vti" ] && grep -q "solved field is kept" "$work/err" ||
+  { echo "FAIL: the solved field was not kept: $(ls "$work/page/run")"; fail=1; }
+umount "$work/page"
+
+# FILE.json marks a mesh FILE complete: a disk with room for the STL (340 KB for this 16^3
+# gyroid) but not its FILE.json leaves neither (before, the STL stayed, looking complete).
+"$bin" run --surface G --grid 16 --epsilon 0.04 --no-preview --no-report --quiet \
+  --out "$work/forMesh" || fail=1
+mount -t tmpfs -o size=340k tmpfs "$work/page"
+"$bin" mesh --from "$work/forMesh" --out "$work/page/m.stl" 2>"$work/err"
+rc=$?
+[ "$rc" = 1 ] && grep -q "No space left" "$work/err" ||
+  { echo "FAIL: full disk at FILE.json: exit $rc"; cat "$work/err"; fail=1; }
+[ -z "$(ls -A "$work/page")" ] || { echo "FAIL: left: $(ls -A "$work/page")"; fail=1; }
+umount "$work/page"
+
+# On 108 KB, a checkpoint does not fit (24^3: phi alone is 110 KB) but the outputs do (a
 # Float32 field of 55 KB): a warning and the run goes on; no checkpoint or temporary stays.
 "$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate --max-steps 30 --constrain mass \
   --float32 --no-preview --no-report --checkpoint-every 0.01 --quiet --out "$work/tiny/ck" 2>"$work/err"

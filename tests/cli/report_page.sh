@@ -39,7 +39,7 @@ rm "$work/g/report.html"
 [ -s "$work/g/report.html" ] || { echo "FAIL: report wrote no report.html"; exit 1; }
 if [ -z "$chromium" ]; then
   echo "report_page: browser checks skipped (no chromium: apt-get install chromium)"
-  exit 0
+  exit 77
 fi
 /usr/bin/python3 "$here/../page/check_page.py" "$chromium" "$work/g/report.html" "$work"
 /usr/bin/python3 "$here/../page/check_page.py" "$chromium" "$work/sweep/report.html" "$work"

@@ -6,7 +6,7 @@ set -eu
 bin="$1"
 if ! /usr/bin/python3 -c "import vtk" 2>/dev/null; then
   echo "vti_vtk: skipped (python3-vtk9 not installed: apt-get install python3-vtk9 to run it)"
-  exit 0
+  exit 77
 fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -13,7 +13,7 @@ mpiexec="$3"
 tests="$(dirname "$bin")/cmcsurf_mpi_tests"
 if ! /usr/bin/python3 -c "import vtk, numpy" 2>/dev/null; then
   echo "pvti_vtk: skipped (python3-vtk9 and numpy not installed)"
-  exit 0
+  exit 77
 fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
