@@ -222,6 +222,15 @@ RunParams run_params(const py::dict& options, bool check_surface) {
   return p;
 }
 
+// A run that cannot fit in the memory this process may still take raises MemoryError now,
+// naming the figures (pipeline/run_options.h), instead of failing after the solve.
+void refuse_if_too_large(const RunParams& p) {
+  if (const std::string why = check_run_memory(p); !why.empty()) {
+    PyErr_SetString(PyExc_MemoryError, why.c_str());
+    throw py::error_already_set();
+  }
+}
+
 // OpenMP threads for one call (0: keep OMP_NUM_THREADS or all cores), restored afterwards so
 // that a later call with threads=0 gets the default again. The solve runs on this thread.
 class ThreadScope {
@@ -519,6 +528,7 @@ struct Mesh {
 
 std::shared_ptr<Result> run(const py::dict& options, py::handle threads, py::object progress) {
   const RunParams p = run_params(options, true);
+  refuse_if_too_large(p);
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   auto out = ia.solve([&](const RunContext& c) {
@@ -545,6 +555,7 @@ std::shared_ptr<Result> relax(py::handle phi, py::handle volume_fraction_arg,
     throw py::value_error("--coarse-levels: relax() starts from the given field on its own "
                           "grid; accepted: 0");
   p.coarse_levels = 0;
+  refuse_if_too_large(p);
   nlohmann::json extra = single_run_extra();
   const bool cmc = algorithm == "cmc";
   if (!cmc && algorithm != "direct")
@@ -632,6 +643,7 @@ py::tuple sweep(const std::string& surfaces, const std::string& fractions,
   } catch (const std::invalid_argument& e) {
     throw py::value_error(fmt::format("surfaces, volume_fractions: {}", e.what()));
   }
+  refuse_if_too_large(sp.run);
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   std::vector<std::shared_ptr<Result>> results;
