@@ -7,6 +7,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "pipeline/run_page.h"
+#include "run_control.h"
 
 namespace cmcsurf::cli {
 
@@ -32,6 +33,9 @@ int report(const ReportCommand& cmd) {
         "DIR: '{}' has neither report.json (a run folder) nor sweep.json (a sweep folder); "
         "a run or sweep writes these last, so the run may have stopped before it finished",
         cmd.dir));
+  // Written by cmcsurf, and not being written now (io/output_folder.h).
+  const FolderClaim claim =
+      claim_folder(dir, {.kind = sweep ? "sweep" : "run", .option = "DIR"}, *Decomposition::world());
   // A sweep's gallery.png (missing after --no-preview, or an interrupted sweep) from its
   // members' folders, since the page shows it.
   if (sweep && !fs::exists(dir / "gallery.png")) {
