@@ -83,6 +83,45 @@ double linear_volume_fraction(const Field& phi, double level) {
   return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
 }
 
+void dual_cell_fractions(const Field& phi, double level, Field& fraction) {
+  require_ghost(phi, 1, "dual_cell_fractions");
+  if (!phi.whole() || fraction.n() != phi.n() || !fraction.whole())
+    throw std::invalid_argument("dual_cell_fractions: whole grids of one size only");
+  CMCSURF_DCHECK(halo_is_current(phi));
+  const int n = phi.n();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const std::ptrdiff_t off[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const double* row = &phi(0, j, k);
+      double* out = &fraction(0, j, k);
+      for (int i = 0; i < n; ++i) {
+        const double* p = row + i;
+        double v[8];
+        double lo = p[0], hi = p[0];
+        for (int c = 0; c < 8; ++c) {
+          v[c] = p[off[c]];
+          lo = std::min(lo, v[c]);
+          hi = std::max(hi, v[c]);
+        }
+        out[i] = lo > level ? 1.0 : hi > level ? cube_sixfold_fraction(v, level) / 6.0 : 0.0;
+      }
+    }
+}
+
+void dual_cell_fractions_ref(const Field& phi, double level, Field& fraction) {
+  const int n = phi.n();
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        double v[8];
+        for (int c = 0; c < 8; ++c)
+          v[c] = phi((i + (c & 1)) % n, (j + (c >> 1 & 1)) % n, (k + (c >> 2 & 1)) % n);
+        fraction(i, j, k) = cube_sixfold_fraction(v, level) / 6.0;
+      }
+}
+
 double linear_volume_fraction_ref(const Field& phi) {
   const int n = phi.n();
   double sixths = 0.0;

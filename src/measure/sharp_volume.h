@@ -32,6 +32,15 @@ double linear_volume_fraction(const Field& phi, double level = 0.5);
 // Plain loop twin: periodic index wrap (no halo), every tetrahedron of every dual cell.
 double linear_volume_fraction_ref(const Field& phi);
 
+// The fraction of each dual cell (the cube between the centres of cells i..i+1, j..j+1,
+// k..k+1 of a whole grid, stored at (i, j, k) of `fraction`, which must have phi's shape)
+// where the piecewise-linear interpolant of phi exceeds level: the volume the estimators above
+// add up, cube by cube (its mean is linear_volume_fraction). Voxel solids for the properties
+// (properties/voxel_solid.h). Reads one ghost layer of phi (halo current); writes the interior
+// of `fraction` only.
+void dual_cell_fractions(const Field& phi, double level, Field& fraction);
+void dual_cell_fractions_ref(const Field& phi, double level, Field& fraction);  // index wrap
+
 // psi = phi - (Lap_h phi + D_h phi) / 24 of the bias correction above, halo exchanged
 // (psi: the block of phi, ghost >= 1). phi needs ghost >= 2 with a current halo.
 void curvature_corrected(const Field& phi, Field& psi);
