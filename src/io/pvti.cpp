@@ -201,7 +201,7 @@ void read_pieces(const PvtiFile& f, const Box& box,
 }
 
 const std::regex& piece_file_pattern() {
-  static const std::regex pattern(R"(piece_\d+\.vti(\.tmp\.\d+\.\d+)?)");
+  static const std::regex pattern(R"(piece_\d+\.vti(\.cmcsurf-tmp\.\d+\.\d+)?)");
   return pattern;
 }
 

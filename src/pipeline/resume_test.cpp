@@ -45,6 +45,7 @@ RunParams sphere() {  // a direct relaxation
   p.surface = "sphere";
   p.grid = 16;
   p.epsilon = 0.04;
+  p.radius = 0.4;  // a smaller ball dissolves on this coarse grid (no surface is an error)
   p.tol = 1e-6;
   p.max_steps = 60;
   return p;
