@@ -71,7 +71,7 @@ for f in g0.3/field.vti nowrap.vti; do
 done
 check cmp -s "$work/field.stl" "$work/nowrap.stl"
 # Nothing but the outputs: no temporaries left behind.
-if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+if ls "$work" | grep -q 'cmcsurf-tmp'; then echo "FAIL: temporary files left"; fail=1; fi
 
 if command -v admesh >/dev/null; then
   for f in "$work/m_network.stl" "$work/sheet.stl" "$work/graded.stl"; do

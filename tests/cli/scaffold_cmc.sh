@@ -163,6 +163,6 @@ print(f"scaffold_cmc: decimated {dm['triangles_before']} -> {dm['triangles_after
       f"{small['volume'] / full['volume'] - 1:+.1e}, error {dm['error']:.4f} mm")
 PY
 
-if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+if ls "$work" | grep -q 'cmcsurf-tmp'; then echo "FAIL: temporary files left"; fail=1; fi
 [ "$fail" -eq 0 ] && echo "scaffold_cmc: all passed"
 exit "$fail"

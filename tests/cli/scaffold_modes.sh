@@ -135,6 +135,6 @@ done
   --to-fraction 0.6 --tile 2x2x6 --cell-size 2.5 --solid network --out graded.stl --quiet) \
   || { echo "FAIL: graded --help example"; fail=1; }
 json_has "$work/graded.stl.json" closed true
-if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+if ls "$work" | grep -q 'cmcsurf-tmp'; then echo "FAIL: temporary files left"; fail=1; fi
 [ "$fail" -eq 0 ] && echo "scaffold_modes: all passed"
 exit "$fail"

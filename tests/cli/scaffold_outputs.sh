@@ -75,6 +75,6 @@ check grep -q "closed-cell" "$work/closed.txt"
 check test ! -e "$work/closed.stl"
 check test ! -e "$work/closed.stl.json"
 
-if ls "$work" | grep -q '\.tmp\.'; then echo "FAIL: temporary files left"; fail=1; fi
+if ls "$work" | grep -q 'cmcsurf-tmp'; then echo "FAIL: temporary files left"; fail=1; fi
 [ "$fail" -eq 0 ] && echo "scaffold_outputs: all passed"
 exit "$fail"
