@@ -67,9 +67,10 @@ void check_run_params(const RunParams& p, bool check_surface) {
     require(p.volume_fraction > 0.0 && p.volume_fraction < 1.0, "--volume-fraction",
             p.volume_fraction, "0 < A < 1");
   }
+  // The bound first: the sizes m 2^k that coarsenable suggests are of no use beyond it.
+  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
   const std::string grid_problem = check_coarsenable(p.grid);
   if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
-  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
   require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
   require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
           "C > 0 (dt = C h)");
