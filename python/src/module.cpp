@@ -15,6 +15,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -906,6 +907,11 @@ mesh came from. Returns path as a pathlib.Path.)";
 
 PYBIND11_MODULE(_cmcsurf, m) {
   m.doc() = "The compiled core of cmcsurf; use the functions of the cmcsurf package.";
+  // OpenMP starts OMP_NUM_THREADS threads at the first parallel region (100000: a crash), and
+  // a call's threads= does not reach Result.save or initial_field: refused as the CLI does.
+  if (const std::string why = check_omp_num_threads(std::getenv("OMP_NUM_THREADS"));
+      !why.empty())
+    throw py::import_error("OMP_NUM_THREADS: " + why);
   py::register_exception<SolverDiverged>(m, "SolverDiverged", PyExc_RuntimeError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {

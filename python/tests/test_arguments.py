@@ -3,6 +3,9 @@ does not mean "not given", bytes for str, NUL characters, arrays for numbers, bo
 numbers, integers beyond int, NaN and infinity, each with a message naming the keyword and
 what it accepts (the command line's message where the library checks the range)."""
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -179,3 +182,17 @@ def test_sequences_and_numpy_values_are_accepted(tmp_path, small_result):
     assert [r.report["member"] for r in results] == ["G_0.50"]
     assert small_result.save(tmp_path / "r", preview=np.bool_(False), report=False).is_dir()
 
+
+@pytest.mark.parametrize("value,ok", [("100000", False), ("0", False), ("abc", False),
+                                      ("4,", False), ("", False), ("2", True), ("4,2", True)])
+def test_import_checks_omp_num_threads(value, ok):
+    """OpenMP would start OMP_NUM_THREADS threads at the first parallel region (100000: a
+    crash), also in Result.save, which takes no threads=: refused at import, as by the CLI."""
+    child = subprocess.run([sys.executable, "-c", "import cmcsurf"], capture_output=True,
+                           text=True, env=dict(os.environ, OMP_NUM_THREADS=value))
+    if ok:
+        assert child.returncode == 0, child.stderr
+    else:
+        assert child.returncode != 0
+        assert (f"ImportError: OMP_NUM_THREADS: got '{value}'; accepted: 1 <= T <= 4096"
+                in child.stderr), child.stderr
