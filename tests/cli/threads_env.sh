@@ -7,7 +7,8 @@ for bad in 100000 4097 0 abc "4," 2.5 "8,100000" ""; do
   grep -q -- "got '$bad'; accepted: 1 <= T <= 4096" "$work/stderr" ||
     { echo "FAIL: OMP_NUM_THREADS='$bad': no value and range"; cat "$work/stderr"; fail=1; }
 done
-# Refused even with --threads, which OpenMP's nesting levels beyond the first do not obey.
+# Refused with --threads too (which would override its first level): bad input is named, not
+# worked around.
 OMP_NUM_THREADS=100000 check_usage out OMP_NUM_THREADS run --grid 16 --threads 1
 # Accepted: a count, a nesting list, spaces around them.
 for good in 1 " 2 " "1,1"; do
