@@ -220,7 +220,9 @@ std::string list_option(py::handle v, const std::string& key, const char* accept
 
 // A library message about a saturated value, with the user's value in its place:
 // "--threads: got 9223372036854775807; ..." -> "--threads: got 1180591620717411303424; ...".
+// An empty `given`: the value was not saturated, the message stays.
 std::string with_given(std::string message, long long shown, const std::string& given) {
+  if (given.empty()) return message;
   const std::string got = fmt::format("got {}", shown);
   if (const auto at = message.find(got); at != std::string::npos)
     message.replace(at, got.size(), "got " + given);
