@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "parallel/decomposition.h"
+#include "pipeline/option_checks.h"
 
 namespace {
 
@@ -38,6 +40,12 @@ int run_main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
+    return kExitUsage;
+  }
+  // OpenMP starts OMP_NUM_THREADS threads at the first parallel region, whatever --threads.
+  if (const std::string why = cmcsurf::check_omp_num_threads(std::getenv("OMP_NUM_THREADS"));
+      !why.empty()) {
+    std::cerr << "error: OMP_NUM_THREADS: " << why << "\n";
     return kExitUsage;
   }
   const auto world = cmcsurf::Decomposition::world();

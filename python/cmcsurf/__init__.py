@@ -255,10 +255,6 @@ def sweep(
     arrays for strings and booleans).
     """
     names = ("grid",) + _SOLVER_OPTIONS
-    if not isinstance(surfaces, str):
-        surfaces = ",".join(str(s) for s in surfaces)
-    if not isinstance(volume_fractions, str):
-        volume_fractions = ",".join(repr(float(a)) for a in volume_fractions)
     results, columns = _cmcsurf.sweep(surfaces, volume_fractions, continuation,
                                       _options(locals(), names), threads, progress)
     table: Dict[str, np.ndarray] = {}

@@ -13,7 +13,9 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -121,53 +123,182 @@ Field array_to_field(py::handle obj, const char* name) {
 
 // ---- options ---------------------------------------------------------------------------
 
-// A keyword argument of the wrong type: TypeError "epsilon: got '0.05' of type str; accepted:
-// a real number", the same wording for every function of the module.
-[[noreturn]] void wrong_type(py::handle v, const std::string& key, const char* type) {
-  throw py::type_error(fmt::format("{}: got {} of type {}; accepted: {}", key,
-                                   std::string(py::repr(v)),
-                                   std::string(py::str(py::type::of(v).attr("__name__"))), type));
+// Every keyword argument of the module goes through one of the four conversions below (real,
+// integer, string, bool), so that each refuses the same things the same way: a value of
+// another kind is a TypeError "epsilon: got '0.05' of type str; accepted: a real number" (None
+// included: where None means "not given" the caller skips it), and the value's range is the
+// library's check with the command line's message (ValueError).
+
+std::string type_name(py::handle v) {
+  return std::string(py::str(py::type::of(v).attr("__name__")));
 }
 
-template <class T>
-T cast_option(py::handle v, const std::string& key, const char* type) {
-  // No str -> number or number -> str conversions: "2" is not 2.
-  if constexpr (std::is_arithmetic_v<T>) {
-    if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v)) wrong_type(v, key, type);
-  }
+[[noreturn]] void wrong_type(py::handle v, const std::string& key, const char* type) {
+  throw py::type_error(fmt::format("{}: got {} of type {}; accepted: {}", key,
+                                   std::string(py::repr(v)), type_name(v), type));
+}
+
+bool is_bool(py::handle v) {
+  return py::isinstance<py::bool_>(v) ||
+         py::isinstance(v, py::module_::import("numpy").attr("bool_"));
+}
+
+// int, float and NumPy scalars (numbers.Real); not bool, str, bytes or an array (a NumPy
+// array of one element converts to float, but it is no number).
+bool is_number(py::handle v, const char* abc) {
+  return !is_bool(v) && py::isinstance(v, py::module_::import("numbers").attr(abc));
+}
+
+double real_option(py::handle v, const std::string& key) {
+  if (!is_number(v, "Real")) wrong_type(v, key, "a real number");
   try {
-    return py::cast<T>(v);
-  } catch (const py::cast_error&) {
-    wrong_type(v, key, type);
+    return py::float_(py::reinterpret_borrow<py::object>(v));
+  } catch (const py::error_already_set& e) {
+    // An int beyond double: infinite, which every range check refuses.
+    if (!e.matches(PyExc_OverflowError)) throw;
+    return py::int_(py::reinterpret_borrow<py::object>(v)) < py::int_(0)
+               ? -std::numeric_limits<double>::infinity()
+               : std::numeric_limits<double>::infinity();
   }
+}
+
+// An integer as long long, saturated (2^70 -> 2^63 - 1); `given` is the user's value then.
+long long integer_option(py::handle v, const std::string& key, std::string* given) {
+  if (!is_number(v, "Integral")) wrong_type(v, key, "an integer");
+  const py::int_ i = py::module_::import("operator").attr("index")(v);
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow == 0) return x;
+  *given = py::str(py::object(i)).cast<std::string>();
+  return overflow > 0 ? std::numeric_limits<long long>::max()
+                      : std::numeric_limits<long long>::min();
+}
+
+std::string string_option(py::handle v, const std::string& key) {
+  if (!py::isinstance<py::str>(v)) wrong_type(v, key, "a string");
+  std::string s = py::cast<std::string>(v);
+  if (s.find('\0') != std::string::npos)
+    throw py::value_error(fmt::format("{}: got {}, which holds a NUL character; accepted: a "
+                                      "string without NUL characters",
+                                      key, std::string(py::repr(v))));
+  return s;
 }
 
 bool bool_option(py::handle v, const std::string& key) {
-  if (!py::isinstance<py::bool_>(v) &&
-      std::string(py::str(py::type::of(v).attr("__name__"))) != "bool_")
+  if (!is_bool(v))
     throw py::type_error(
         fmt::format("{}: got {}; accepted: True or False", key, std::string(py::repr(v))));
   return py::cast<bool>(v);
 }
 
+// A path: str or os.PathLike (str), without NUL characters.
+std::filesystem::path path_option(py::handle v, const std::string& key) {
+  py::object s = py::reinterpret_borrow<py::object>(v);
+  if (!py::isinstance<py::str>(v)) {
+    if (!py::hasattr(v, "__fspath__")) wrong_type(v, key, "a str or os.PathLike path");
+    s = py::module_::import("os").attr("fspath")(v);
+    if (!py::isinstance<py::str>(s)) wrong_type(v, key, "a str or os.PathLike path");
+  }
+  return std::filesystem::path(string_option(s, key));
+}
+
+// A list: a str as the command line takes it ("P,D,G"), or a sequence (not bytes) whose
+// elements are converted one by one, named "surfaces[1]", and joined with commas.
+std::string list_option(py::handle v, const std::string& key, const char* accepted,
+                        const std::function<std::string(py::handle, const std::string&)>& item) {
+  if (py::isinstance<py::str>(v)) return string_option(v, key);
+  if (py::isinstance<py::bytes>(v) || !py::isinstance<py::sequence>(v))
+    wrong_type(v, key, accepted);
+  std::string out;
+  std::size_t i = 0;
+  for (py::handle e : v) {
+    if (i > 0) out += ',';
+    out += item(e, fmt::format("{}[{}]", key, i));
+    ++i;
+  }
+  return out;
+}
+
+// A library message about a saturated value, with the user's value in its place:
+// "--threads: got 9223372036854775807; ..." -> "--threads: got 1180591620717411303424; ...".
+// An empty `given`: the value was not saturated, the message stays.
+std::string with_given(std::string message, long long shown, const std::string& given) {
+  if (given.empty()) return message;
+  const std::string got = fmt::format("got {}", shown);
+  if (const auto at = message.find(got); at != std::string::npos)
+    message.replace(at, got.size(), "got " + given);
+  return message;
+}
+
 // threads=T: an integer, checked as --threads is (pipeline/option_checks.h).
 int threads_option(py::handle v) {
-  const long long t = cast_option<long long>(v, "threads", "an integer");
+  std::string given;
+  const long long t = integer_option(v, "threads", &given);
   if (const std::string why = check_threads(t); !why.empty())
-    throw py::value_error("--threads: " + why);
+    throw py::value_error("--threads: " + with_given(why, t, given));
   return int(t);
 }
 
-// The keyword arguments of run() (the command line's options with '_' for '-'): None means
-// "not given". Unknown keys are a TypeError, as in any Python call.
-void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
+// seed=S: 0 <= S < 2^64 as --seed (the sign is check_seed's, pipeline/option_checks.h).
+unsigned long long seed_option(py::handle v) {
+  if (!is_number(v, "Integral")) wrong_type(v, "seed", "an integer");
+  const py::int_ seed = py::module_::import("operator").attr("index")(v);
+  if (seed < py::int_(0) || seed > py::int_(std::numeric_limits<unsigned long long>::max()))
+    throw py::value_error(
+        "--seed: " + with_given(check_seed(-1), -1, py::str(py::object(seed)).cast<std::string>()));
+  return seed.cast<unsigned long long>();
+}
+
+// The int options that were beyond int: the run takes the nearest int (what the library's
+// range checks then see) and the message names the user's value.
+class IntOptions {
+ public:
+  int take(py::handle v, const std::string& key) {
+    std::string given;
+    const long long x = integer_option(v, key, &given);
+    const int clamped = int(std::clamp<long long>(x, std::numeric_limits<int>::min(),
+                                                  std::numeric_limits<int>::max()));
+    if (clamped != x && beyond_.empty()) {
+      beyond_ = key;
+      given_ = given.empty() ? std::to_string(x) : given;
+      clamped_ = clamped;
+    }
+    return clamped;
+  }
+  // After the library's checks: its message about the clamped value names the user's value;
+  // a clamped value it accepted (max_steps=2**40) is refused here, as the command line refuses
+  // a number beyond int.
+  [[noreturn]] void refuse(const std::string& message) const {
+    throw py::value_error(beyond_.empty() ? message : with_given(message, clamped_, given_));
+  }
+  void check_accepted() const {
+    if (beyond_.empty()) return;
+    throw py::value_error(fmt::format("{}: got {}; accepted: an int (|n| < 2^31) in the range "
+                                      "of its option (`cmcsurf run --help`)",
+                                      beyond_, given_));
+  }
+
+ private:
+  std::string beyond_, given_;
+  int clamped_ = 0;
+};
+
+// The keyword arguments of run() (the command line's options with '_' for '-'). None means
+// "not given" only for the options --fast chooses (and is a TypeError elsewhere); a key that is
+// absent is not given. Unknown keys are a TypeError, as in any Python call.
+void apply_options(RunParams& p, RunChoices& c, IntOptions& ints, const py::dict& options) {
   for (auto [key_obj, v] : options) {
     const std::string key = py::cast<std::string>(key_obj);
-    if (v.is_none()) continue;
-    auto d = [&](double& x) { x = cast_option<double>(v, key, "a real number"); };
-    auto i = [&](int& x) { x = cast_option<int>(v, key, "an integer"); };
-    auto s = [&](std::string& x) { x = cast_option<std::string>(v, key, "a string"); };
+    auto d = [&](double& x) { x = real_option(v, key); };
+    auto i = [&](int& x) { x = ints.take(v, key); };
+    auto s = [&](std::string& x) { x = string_option(v, key); };
     auto b = [&](bool& x) { x = bool_option(v, key); };
+    // The options --fast chooses: None leaves the choice to it.
+    auto fast = [&](auto set, bool& given) {
+      if (v.is_none()) return;
+      set();
+      given = true;
+    };
     if (key == "surface") s(p.surface);
     else if (key == "volume_fraction") d(p.volume_fraction);
     else if (key == "grid") i(p.grid);
@@ -180,28 +311,16 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
     else if (key == "constrain") s(c.constrain);
     else if (key == "volume_tol") d(p.volume_tol);
     else if (key == "radius") d(p.radius);
-    else if (key == "seed") {
-      // The sign as --seed checks it (pipeline/option_checks.h); 2^63 <= S < 2^64 as unsigned.
-      if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) ||
-          !py::hasattr(v, "__index__"))
-        wrong_type(v, key, "an integer");
-      const py::int_ seed = py::module_::import("operator").attr("index")(v);
-      if (seed < py::int_(0)) {
-        const py::int_ lowest(std::numeric_limits<long long>::min());
-        throw py::value_error(
-            "--seed: " + check_seed(seed < lowest ? std::numeric_limits<long long>::min()
-                                                  : seed.cast<long long>()));
-      }
-      p.seed = cast_option<unsigned long long>(seed, key, "an integer");
-    }
+    else if (key == "seed") p.seed = seed_option(v);
     else if (key == "mg_tol") d(p.solver.tol);
     else if (key == "fast") b(c.fast);
-    else if (key == "mg_rtol") { d(p.solver.rtol); c.mg_rtol_given = true; }
-    else if (key == "coarse_levels") { i(p.coarse_levels); c.coarse_levels_given = true; }
-    else if (key == "extrapolate") { b(p.solver.extrapolate); c.extrapolate_given = true; }
-    else if (key == "dt_max_factor") { d(p.dt_max_factor); c.dt_max_factor_given = true; }
-    else if (key == "settle_tol") { d(p.settle_tol); c.settle_tol_given = true; }
-    else if (key == "mg_rtol_finest") { d(p.mg_rtol_finest); c.mg_rtol_finest_given = true; }
+    else if (key == "mg_rtol") fast([&] { d(p.solver.rtol); }, c.mg_rtol_given);
+    else if (key == "coarse_levels") fast([&] { i(p.coarse_levels); }, c.coarse_levels_given);
+    else if (key == "extrapolate") fast([&] { b(p.solver.extrapolate); }, c.extrapolate_given);
+    else if (key == "dt_max_factor") fast([&] { d(p.dt_max_factor); }, c.dt_max_factor_given);
+    else if (key == "settle_tol") fast([&] { d(p.settle_tol); }, c.settle_tol_given);
+    else if (key == "mg_rtol_finest")
+      fast([&] { d(p.mg_rtol_finest); }, c.mg_rtol_finest_given);
     else if (key == "max_vcycles") i(p.solver.max_vcycles);
     else if (key == "pre_sweeps") i(p.solver.fas.pre_sweeps);
     else if (key == "post_sweeps") i(p.solver.fas.post_sweeps);
@@ -214,11 +333,21 @@ void apply_options(RunParams& p, RunChoices& c, const py::dict& options) {
   }
 }
 
-RunParams run_params(const py::dict& options, bool check_surface) {
+// The options converted and checked as the command line's (finish_run_params); `adjust` may
+// change them before the checks (measure() and relax() set the grid from their field).
+RunParams run_params(const py::dict& options, bool check_surface,
+                     const std::function<void(RunParams&)>& adjust = {}) {
   RunParams p;
   RunChoices c;
-  apply_options(p, c, options);
-  finish_run_params(p, c, check_surface);  // OptionError -> ValueError
+  IntOptions ints;
+  apply_options(p, c, ints, options);
+  if (adjust) adjust(p);
+  try {
+    finish_run_params(p, c, check_surface);
+  } catch (const OptionError& e) {
+    ints.refuse(e.what());
+  }
+  ints.check_accepted();
   return p;
 }
 
@@ -435,8 +564,9 @@ struct Result {
   // The run folder as `cmcsurf run --out dir` writes it: the preview stage and preview.png
   // (--no-preview: preview=False), write_run_folder, then report.html (--no-report:
   // report=False) from the folder's files, as the CLI does.
-  py::object save(const std::filesystem::path& dir, py::handle float32_arg,
-                  py::handle preview_arg, py::handle report_arg, py::handle force_arg) {
+  py::object save(py::handle dir_arg, py::handle float32_arg, py::handle preview_arg,
+                  py::handle report_arg, py::handle force_arg) {
+    const std::filesystem::path dir = path_option(dir_arg, "dir");
     const bool float32 = bool_option(float32_arg, "float32");
     const bool preview = bool_option(preview_arg, "preview");
     const bool page = bool_option(report_arg, "report");
@@ -510,12 +640,12 @@ struct Mesh {
     return report_cache;
   }
   // The mesh file and FILE.json, as `cmcsurf mesh --out path` writes them.
-  py::object save(const std::filesystem::path& path, py::handle format_arg) {
+  py::object save(py::handle path_arg, py::handle format_arg) {
+    const std::filesystem::path path = path_option(path_arg, "path");
     MeshPlan plan;
     plan.params = params;
     plan.out = path;
-    plan.format = mesh_output_format(cast_option<std::string>(format_arg, "format", "a string"),
-                                     path);
+    plan.format = mesh_output_format(string_option(format_arg, "format"), path);
     {
       py::gil_scoped_release release;
       write_mesh_with_report(mesh, report, plan, {{"source", source}});
@@ -542,10 +672,10 @@ std::shared_ptr<Result> run(const py::dict& options, py::handle threads, py::obj
 std::shared_ptr<Result> relax(py::handle phi, py::handle volume_fraction_arg,
                               py::handle algorithm_arg, const py::dict& options,
                               py::handle threads, py::object progress) {
-  std::optional<double> volume_fraction;
+  std::optional<double> volume_fraction;  // None: phi's own
   if (!volume_fraction_arg.is_none())
-    volume_fraction = cast_option<double>(volume_fraction_arg, "volume_fraction", "a real number");
-  const std::string algorithm = cast_option<std::string>(algorithm_arg, "algorithm", "a string");
+    volume_fraction = real_option(volume_fraction_arg, "volume_fraction");
+  const std::string algorithm = string_option(algorithm_arg, "algorithm");
   const Field start = array_to_field(phi, "phi");
   py::dict o = options;
   if (!o.contains("surface") || o["surface"].is_none()) o["surface"] = "field";
@@ -601,13 +731,13 @@ py::array_t<double> initial_field(const py::dict& options) {
 // options: epsilon and surface (None: not given), checked as run()'s are.
 py::object measure(py::handle phi, const py::dict& options, py::handle threads) {
   Field f = array_to_field(phi, "phi");
-  const bool named = options.contains("surface") && !options["surface"].is_none();
-  RunParams p;
-  RunChoices c;
-  apply_options(p, c, options);
-  p.grid = f.n();
-  if (!named) p.surface = "field";
-  finish_run_params(p, c, named);  // --epsilon, --surface: OptionError -> ValueError
+  py::dict o = options;
+  const bool named = o.contains("surface") && !o["surface"].is_none();  // None: not given
+  if (!named && o.contains("surface")) PyDict_DelItemString(o.ptr(), "surface");
+  const RunParams p = run_params(o, named, [&](RunParams& q) {
+    q.grid = f.n();
+    if (!named) q.surface = "field";
+  });  // --epsilon, --surface
   ThreadScope scope(threads);
   nlohmann::json j;
   {
@@ -622,9 +752,17 @@ py::object measure(py::handle phi, const py::dict& options, py::handle threads) 
   return to_python(j);
 }
 
-py::tuple sweep(const std::string& surfaces, const std::string& fractions,
-                py::handle continuation, const py::dict& options, py::handle threads,
-                py::object progress) {
+py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle continuation,
+                const py::dict& options, py::handle threads, py::object progress) {
+  const std::string surfaces =
+      list_option(surfaces_arg, "surfaces", "a str \"P,D,G\" or a sequence of str",
+                  [](py::handle e, const std::string& key) { return string_option(e, key); });
+  const std::string fractions = list_option(
+      fractions_arg, "volume_fractions",
+      "a str \"start:stop:step\" or \"a,b,c\", or a sequence of real numbers",
+      [](py::handle e, const std::string& key) {
+        return fmt::format("{}", real_option(e, key));  // shortest text that reads back equal
+      });
   SweepParams sp;
   sp.run = run_params(options, false);
   try {
@@ -682,12 +820,13 @@ MeshOutputOptions mesh_options(const py::dict& options) {
   MeshOutputOptions o;
   for (auto [key_obj, v] : options) {
     const std::string key = py::cast<std::string>(key_obj);
-    if (v.is_none()) continue;
-    if (key == "tile") o.tile = cast_option<std::string>(v, key, "a string");
-    else if (key == "cell_size") o.cell_size = cast_option<double>(v, key, "a real number");
-    else if (key == "units") o.units = cast_option<std::string>(v, key, "a string");
-    else if (key == "solid") o.solid = cast_option<std::string>(v, key, "a string");
-    else if (key == "thickness") o.thickness = cast_option<double>(v, key, "a real number");
+    if (key == "tile") o.tile = string_option(v, key);
+    else if (key == "cell_size") o.cell_size = real_option(v, key);
+    else if (key == "units") o.units = string_option(v, key);
+    else if (key == "solid") o.solid = string_option(v, key);
+    else if (key == "thickness") {
+      if (!v.is_none()) o.thickness = real_option(v, key);  // None: not given
+    }
     else if (key == "other_phase") o.other_phase = bool_option(v, key);
     else if (key == "keep_fragments") o.keep_fragments = bool_option(v, key);
     else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
@@ -800,6 +939,11 @@ mesh came from. Returns path as a pathlib.Path.)";
 
 PYBIND11_MODULE(_cmcsurf, m) {
   m.doc() = "The compiled core of cmcsurf; use the functions of the cmcsurf package.";
+  // OpenMP starts OMP_NUM_THREADS threads at the first parallel region (100000: a crash), and
+  // a call's threads= does not reach Result.save or initial_field: refused as the CLI does.
+  if (const std::string why = check_omp_num_threads(std::getenv("OMP_NUM_THREADS"));
+      !why.empty())
+    throw py::import_error("OMP_NUM_THREADS: " + why);
   py::register_exception<SolverDiverged>(m, "SolverDiverged", PyExc_RuntimeError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {

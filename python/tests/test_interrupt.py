@@ -78,7 +78,7 @@ def test_keyboard_interrupt_stops_relax():
 
 def test_progress_gets_a_dict_per_step():
     records = []
-    r = cmcsurf.run("G", 0.3, 16, epsilon=0.05, threads=1, progress=records.append)
+    r = cmcsurf.run("G", 0.5, 16, epsilon=0.05, threads=1, progress=records.append)
     h = r.history
     assert len(records) == len(h["step"]) > 5
     assert [d["step"] for d in records] == list(h["step"])

@@ -10,6 +10,7 @@
 
 #include "grid/check.h"
 #include "grid/stencil.h"
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 namespace {
@@ -76,6 +77,7 @@ std::pair<double, double> sum_cells2(const Field& phi, Term term) {
 // b = j+1, index b*(nx+1) + a.
 struct VertexPlane {
   std::vector<double> nx, ny, nz;
+  VertexPlane() = default;
   explicit VertexPlane(const Field& phi)
       : nx(std::size_t(phi.nx() + 1) * (phi.ny() + 1)), ny(nx.size()), nz(nx.size()) {}
 };
@@ -200,12 +202,15 @@ double mean_curvature(const Field& phi) {
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   double sum_kw = 0.0, sum_w = 0.0;
+  FirstException errors;
 #pragma omp parallel reduction(+ : sum_kw, sum_w)
   {
-    VertexPlane below(phi), above(phi);
+    VertexPlane below, above;
+    const bool allocated = errors.run([&] { below = above = VertexPlane(phi); });
     int last_k = -2;
 #pragma omp for schedule(static)
     for (int k = 0; k < nz; ++k) {
+      if (!allocated) continue;  // every thread must still reach the worksharing loop
       if (last_k == k - 1) {
         std::swap(below, above);
       } else {
@@ -242,6 +247,7 @@ double mean_curvature(const Field& phi) {
       }
     }
   }
+  errors.rethrow();
   double sums[2] = {sum_kw, sum_w};
   phi.sum_over_ranks(sums, 2);
   if (sums[1] == 0.0) return 0.0;  // constant field: no interface

@@ -9,6 +9,7 @@
 #include "grid/check.h"
 #include "grid/kuhn.h"
 #include "multigrid/transfer.h"
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
@@ -162,25 +163,29 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
   std::vector<std::vector<CurvatureSample>> planes(samples ? nz : 0);
   std::vector<Sums> plane_sums(nz);
   // Dual cell (i, j, k) spans cells i..i+1, j..j+1, k..k+1 (the last one reaches the ghosts);
-  // the curvature at its corners reads one more layer.
+  // the curvature at its corners reads one more layer. Samples are appended: an allocation.
+  FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) if (nx >= kParallelMinN)
-  for (int k = 0; k < nz; ++k) {
-    Sums sums;
-    std::vector<CurvatureSample>* out = samples ? &planes[k] : nullptr;
-    for (int j = 0; j < ny; ++j) {
-      const double* row = &psi(0, j, k);
-      for (int i = 0; i < nx; ++i) {
-        const double* p = row + i;
-        double s[8];
-        for (int c = 0; c < 8; ++c) s[c] = p[off[c]];
-        if (!crosses(s)) continue;
-        double hc[8];
-        for (int c = 0; c < 8; ++c) hc[c] = level_set_mean_curvature(p + off[c], sy, sz, inv_h);
-        add_cube(s, hc, h2, sums, out);
+  for (int k = 0; k < nz; ++k)
+    errors.run([&] {
+      Sums sums;
+      std::vector<CurvatureSample>* out = samples ? &planes[k] : nullptr;
+      for (int j = 0; j < ny; ++j) {
+        const double* row = &psi(0, j, k);
+        for (int i = 0; i < nx; ++i) {
+          const double* p = row + i;
+          double s[8];
+          for (int c = 0; c < 8; ++c) s[c] = p[off[c]];
+          if (!crosses(s)) continue;
+          double hc[8];
+          for (int c = 0; c < 8; ++c)
+            hc[c] = level_set_mean_curvature(p + off[c], sy, sz, inv_h);
+          add_cube(s, hc, h2, sums, out);
+        }
       }
-    }
-    plane_sums[k] = sums;
-  }
+      plane_sums[k] = sums;
+    });
+  errors.rethrow();
   Sums total;  // in plane order, so the result does not depend on the thread count
   for (const Sums& s : plane_sums) {
     total.area += s.area;

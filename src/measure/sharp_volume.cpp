@@ -7,6 +7,7 @@
 #include "grid/check.h"
 #include "grid/kuhn.h"
 #include "grid/stencil.h"
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
@@ -182,9 +183,11 @@ double sharp_volume_fraction(const Field& phi) {
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const std::size_t plane = std::size_t(nx + 1) * (ny + 1);
   double sixths = 0.0;  // sum of tetrahedron fractions: 6 per dual cell
+  FirstException errors;
 #pragma omp parallel reduction(+ : sixths)
   {
-    std::vector<double> lower(plane), upper(plane);
+    std::vector<double> lower, upper;
+    const bool allocated = errors.run([&] { lower = upper = std::vector<double>(plane); });
     auto fill = [&](std::vector<double>& q, int k) {
       for (int j = 0; j <= ny; ++j) {
         const double* p = &phi(0, j, k);
@@ -195,6 +198,7 @@ double sharp_volume_fraction(const Field& phi) {
     int filled = -2;  // the plane `upper` holds
 #pragma omp for schedule(static)
     for (int k = 0; k < nz; ++k) {
+      if (!allocated) continue;  // every thread must still reach the worksharing loop
       if (filled == k) {
         std::swap(lower, upper);
       } else {
@@ -221,6 +225,7 @@ double sharp_volume_fraction(const Field& phi) {
         }
     }
   }
+  errors.rethrow();
   return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
 }
 

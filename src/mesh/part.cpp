@@ -11,6 +11,7 @@
 
 #include "common/wall_clock.h"
 #include "mesh/marching_tets.h"
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
@@ -107,16 +108,19 @@ TriMesh mesh_window(const PartLattice& lat, const std::array<int, 3>& lo,
   nl.layer = [&](int k, double* v) {
     const int kk = k + lo[2];
     const int nx = nl.nodes[0], ny = nl.nodes[1];
+    FirstException errors;  // value is the caller's function
 #pragma omp parallel for schedule(static)
-    for (int j = 0; j < ny; ++j) {
-      const int jj = j + lo[1];
-      for (int i = 0; i < nx; ++i) {
-        const int ii = i + lo[0];
-        const bool pad = ii < 0 || jj < 0 || kk < 0 || ii >= lat.nodes[0] ||
-                         jj >= lat.nodes[1] || kk >= lat.nodes[2];
-        v[std::size_t(j) * nx + i] = pad ? 0.0 : value(lat.index(ii, jj, kk));
-      }
-    }
+    for (int j = 0; j < ny; ++j)
+      errors.run([&] {
+        const int jj = j + lo[1];
+        for (int i = 0; i < nx; ++i) {
+          const int ii = i + lo[0];
+          const bool pad = ii < 0 || jj < 0 || kk < 0 || ii >= lat.nodes[0] ||
+                           jj >= lat.nodes[1] || kk >= lat.nodes[2];
+          v[std::size_t(j) * nx + i] = pad ? 0.0 : value(lat.index(ii, jj, kk));
+        }
+      });
+    errors.rethrow();
   };
   return extract_isosurface(nl, 0.0);
 }
@@ -158,21 +162,27 @@ PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
     }
   }
   lat.a.resize(lat.count());
+  FirstException errors;  // transform is the caller's function
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < lat.nodes[2]; ++k)
-    for (int j = 0; j < lat.nodes[1]; ++j)
-      for (int i = 0; i < lat.nodes[0]; ++i) {
-        const int i0 = cell[0][i], j0 = cell[1][j], k0 = cell[2][k];
-        const int i1 = (i0 + 1) % n, j1 = (j0 + 1) % n, k1 = (k0 + 1) % n;
-        const double tx = weight[0][i], ty = weight[1][j], tz = weight[2][k];
-        auto lerp = [](double p, double q, double t) { return t == 0.0 ? p : p + t * (q - p); };
-        const double v = lerp(lerp(lerp(g(i0, j0, k0), g(i1, j0, k0), tx),
-                                   lerp(g(i0, j1, k0), g(i1, j1, k0), tx), ty),
-                              lerp(lerp(g(i0, j0, k1), g(i1, j0, k1), tx),
-                                   lerp(g(i0, j1, k1), g(i1, j1, k1), tx), ty),
-                              tz);
-        lat.a[lat.index(i, j, k)] = float(transform(v));
-      }
+    errors.run([&] {
+      for (int j = 0; j < lat.nodes[1]; ++j)
+        for (int i = 0; i < lat.nodes[0]; ++i) {
+          const int i0 = cell[0][i], j0 = cell[1][j], k0 = cell[2][k];
+          const int i1 = (i0 + 1) % n, j1 = (j0 + 1) % n, k1 = (k0 + 1) % n;
+          const double tx = weight[0][i], ty = weight[1][j], tz = weight[2][k];
+          auto lerp = [](double p, double q, double t) {
+            return t == 0.0 ? p : p + t * (q - p);
+          };
+          const double v = lerp(lerp(lerp(g(i0, j0, k0), g(i1, j0, k0), tx),
+                                     lerp(g(i0, j1, k0), g(i1, j1, k0), tx), ty),
+                                lerp(lerp(g(i0, j0, k1), g(i1, j0, k1), tx),
+                                     lerp(g(i0, j1, k1), g(i1, j1, k1), tx), ty),
+                                tz);
+          lat.a[lat.index(i, j, k)] = float(transform(v));
+        }
+    });
+  errors.rethrow();
   return lat;
 }
 

@@ -16,6 +16,7 @@
 #include "measure/sharp_volume.h"
 #include "mesh/marching_tets.h"
 #include "mesh/part.h"
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
@@ -71,14 +72,17 @@ TriMesh mesh_tiled(const TiledSampler& f, int n, const std::array<int, 3>& tiles
   lat.layer = [&](int k, double* v) {
     const int nx = lat.nodes[0], ny = lat.nodes[1];
     const int ck = std::clamp(k + shift, 0, cells_z - 1) % cells_z;
+    FirstException errors;  // f is the caller's function
 #pragma omp parallel for schedule(static)
-    for (int j = 0; j < ny; ++j) {
-      const int cj = std::clamp(j + shift, 0, cells_y - 1) % cells_y;
-      for (int i = 0; i < nx; ++i) {
-        const int ci = solid ? std::clamp(i + shift, 0, cells_x - 1) : i % cells_x;
-        v[std::size_t(j) * nx + i] = f(ci, solid ? cj : j % cells_y, solid ? ck : k % cells_z);
-      }
-    }
+    for (int j = 0; j < ny; ++j)
+      errors.run([&] {
+        const int cj = std::clamp(j + shift, 0, cells_y - 1) % cells_y;
+        for (int i = 0; i < nx; ++i) {
+          const int ci = solid ? std::clamp(i + shift, 0, cells_x - 1) : i % cells_x;
+          v[std::size_t(j) * nx + i] = f(ci, solid ? cj : j % cells_y, solid ? ck : k % cells_z);
+        }
+      });
+    errors.rethrow();
   };
   return extract_isosurface(lat, iso);
 }

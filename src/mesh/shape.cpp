@@ -13,6 +13,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "parallel/first_exception.h"
+
 namespace cmcsurf {
 
 TriMesh read_stl(const std::filesystem::path& path) {
@@ -70,17 +72,20 @@ std::vector<float> shape_distance(const TriMesh& shape, const PartLattice& lat, 
   const openvdb::FloatGrid::Ptr grid =
       openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, half_width);
   std::vector<float> d(lat.count());
+  FirstException errors;  // a sampler's accessor allocates
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < lat.nodes[2]; ++k) {
-    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*grid);
-    for (int j = 0; j < lat.nodes[1]; ++j)
-      for (int i = 0; i < lat.nodes[0]; ++i) {
-        const openvdb::Vec3R p(lat.origin[0] + (i + 0.5) * lat.spacing[0],
-                               lat.origin[1] + (j + 0.5) * lat.spacing[1],
-                               lat.origin[2] + (k + 0.5) * lat.spacing[2]);
-        d[lat.index(i, j, k)] = float(std::clamp(double(sampler.wsSample(p)), -band, band));
-      }
-  }
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    errors.run([&] {
+      openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*grid);
+      for (int j = 0; j < lat.nodes[1]; ++j)
+        for (int i = 0; i < lat.nodes[0]; ++i) {
+          const openvdb::Vec3R p(lat.origin[0] + (i + 0.5) * lat.spacing[0],
+                                 lat.origin[1] + (j + 0.5) * lat.spacing[1],
+                                 lat.origin[2] + (k + 0.5) * lat.spacing[2]);
+          d[lat.index(i, j, k)] = float(std::clamp(double(sampler.wsSample(p)), -band, band));
+        }
+    });
+  errors.rethrow();
   return d;
 }
 

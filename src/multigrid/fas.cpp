@@ -27,18 +27,15 @@ std::string check_coarsenable(int n) {
     ++k;
   }
   if (n >= 8 && (m == 1 || m == 3 || m == 5 || m == 7) && k >= 2) return "";
-  // Suggest the nearest accepted sizes below and above.
-  auto ok = [](int c) {
-    int mm = c, kk = 0;
-    while (mm > 0 && mm % 2 == 0) {
-      mm /= 2;
-      ++kk;
+  // Suggest the nearest accepted sizes below and above (from the sizes themselves: a search
+  // by steps of one overflowed, or took seconds, near the ends of int).
+  long long below = 0, above = 0;
+  for (const long long odd : {1, 3, 5, 7})
+    for (long long c = 4 * odd; c <= (1LL << 34); c *= 2) {
+      if (c < 8) continue;
+      if (c < n && c > below) below = c;
+      if (c > n && (above == 0 || c < above)) above = c;
     }
-    return c >= 8 && (mm == 1 || mm == 3 || mm == 5 || mm == 7) && kk >= 2;
-  };
-  int below = n - 1, above = n + 1;
-  while (below >= 8 && !ok(below)) --below;
-  while (!ok(above)) ++above;
   std::string near = below >= 8 ? fmt::format("{} or {}", below, above) : fmt::format("{}", above);
   return fmt::format(
       "must be m * 2^k with m in {{1, 3, 5, 7}}, k >= 2 and N >= 8 so that multigrid can "

@@ -63,6 +63,10 @@ TEST(Multigrid, CoarseningSizes) {
   EXPECT_FALSE(check_coarsenable(4).empty());    // too small
   EXPECT_FALSE(check_coarsenable(44).empty());   // 11 * 4
   EXPECT_NE(check_coarsenable(50).find("48 or 56"), std::string::npos);
+  EXPECT_NE(check_coarsenable(5).find("(nearest accepted: 8)"), std::string::npos);
+  // The ends of int (a Python grid=2**40 arrives clamped): no overflow, no long search.
+  EXPECT_NE(check_coarsenable(2147483647).find("1879048192 or 2147483648"), std::string::npos);
+  EXPECT_NE(check_coarsenable(-2147483647 - 1).find("(nearest accepted: 8)"), std::string::npos);
 }
 
 }  // namespace

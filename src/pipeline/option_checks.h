@@ -15,5 +15,11 @@ constexpr int kMaxThreads = 4096;
 std::string check_threads(long long threads);
 // "got -1; accepted: 0 <= S < 2^64"
 std::string check_seed(long long seed);
+// The environment's OMP_NUM_THREADS (null: unset), which OpenMP obeys at the first parallel
+// region, before any --threads applies: a count 1 <= T <= 4096 or a comma list of them (one
+// per nesting level), spaces allowed around each. "" when accepted, else
+// "got '100000'; accepted: ...". Anything else either starts that many threads (a crash at
+// 100000) or is ignored by OpenMP with a warning.
+std::string check_omp_num_threads(const char* value);
 
 }  // namespace cmcsurf

@@ -107,12 +107,13 @@ void check_run_params(const RunParams& p, bool check_surface) {
                                     "coarse-to-fine continuation starts from a nodal formula)",
                                     p.coarse_levels, p.surface));
   }
+  // The bound first: the sizes m 2^k that coarsenable suggests are of no use beyond it.
+  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
+  const std::string grid_problem = check_coarsenable(p.grid);
+  if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
   if (const std::string why = check_fraction_on_grid(p.volume_fraction, p.grid);
       check_surface && !why.empty())
     throw OptionError("--volume-fraction: " + why);
-  const std::string grid_problem = check_coarsenable(p.grid);
-  if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
-  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
   require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
   require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
           "C > 0 (dt = C h)");

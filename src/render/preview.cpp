@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "parallel/first_exception.h"
 #include "render/raster.h"
 #include "render/text.h"
 
@@ -138,9 +139,13 @@ Image render_preview(const DrawSurface& relaxed, const DrawSurface* nodal,
   const std::string* headers[2] = {&labels.relaxed, &labels.nodal};
   // The panels are independent: one per thread.
   Image panels[4];
+  FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < 2 * cols; ++k)
-    panels[k] = render_panel(*surfaces[k / 2], k % 2 == 0 ? 1 : 2, scale, kPreviewPanel);
+    errors.run([&] {
+      panels[k] = render_panel(*surfaces[k / 2], k % 2 == 0 ? 1 : 2, scale, kPreviewPanel);
+    });
+  errors.rethrow();
   for (int c = 0; c < cols; ++c) {
     const int x = c * kPreviewPanel;
     draw_text(img, x + kPreviewPanel / 2, kPreviewTitle + 20, 17, *headers[c], kInk,
@@ -187,11 +192,14 @@ Image render_gallery(const std::string& title, const std::vector<GalleryRow>& ro
   for (std::size_t r = 0; r < rows.size(); ++r)
     for (std::size_t t = 0; t < rows[r].tiles.size(); ++t) cells.emplace_back(r, t);
   std::vector<Image> tiles(cells.size());
+  FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1)
-  for (std::size_t k = 0; k < cells.size(); ++k) {
-    const GalleryTile& tile = rows[cells[k].first].tiles[cells[k].second];
-    if (tile.surface) tiles[k] = render_panel(*tile.surface, 1, scale, kGalleryTile);
-  }
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    errors.run([&] {
+      const GalleryTile& tile = rows[cells[k].first].tiles[cells[k].second];
+      if (tile.surface) tiles[k] = render_panel(*tile.surface, 1, scale, kGalleryTile);
+    });
+  errors.rethrow();
   std::size_t next = 0;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const int y = title_h + int(r) * row_h;

@@ -13,6 +13,8 @@
 #include <string_view>
 #include <type_traits>
 
+#include "parallel/first_exception.h"
+
 namespace cmcsurf {
 
 namespace {
@@ -209,33 +211,23 @@ template <class MakeEvaluator>
 void fill_at_cell_centres(Field& phi, MakeEvaluator&& make) {
   const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const auto& o = phi.offset();  // block cells sit at global index offset + local index
-  std::exception_ptr error;
-  const auto keep_first = [&error] {
-#pragma omp critical(cmcsurf_initial_error)
-    if (!error) error = std::current_exception();
-  };
+  FirstException errors;
 #pragma omp parallel
   {
     std::optional<std::invoke_result_t<MakeEvaluator&>> value;
-    try {
-      value.emplace(make());
-    } catch (...) {
-      keep_first();
-    }
+    errors.run([&] { value.emplace(make()); });
 #pragma omp for schedule(static)
     for (int k = 0; k < nz; ++k) {
       if (!value) continue;
-      try {
+      errors.run([&] {
         for (int j = 0; j < ny; ++j)
           for (int i = 0; i < nx; ++i)
             phi(i, j, k) = (*value)(cell_centre(o[0] + i, n), cell_centre(o[1] + j, n),
                                     cell_centre(o[2] + k, n));
-      } catch (...) {
-        keep_first();
-      }
+      });
     }
   }
-  if (error) std::rethrow_exception(error);
+  errors.rethrow();
 }
 
 // Uniform in [-1, 1) from the top 53 bits, so the stream is the same with every standard
