@@ -159,9 +159,10 @@ mpi sweep --resume "$work/cut" 2>"$work/resume.log" ||
 python3 "$work/compare.py" "$work/sserial" "$work/cut" 1e-12 || fail=1
 if find "$work/cut" -name 'checkpoint*' | grep -q .; then echo "FAIL: checkpoint left"; fail=1; fi
 
-# An error in one group (a file where its member's folder goes): that group stops, the other
-# finishes its members, world rank 0 says which group failed, every rank exits 1, no hang.
-mkdir "$work/err" && echo x >"$work/err/P_0.60"
+# An error in one group (a file where its member's folder goes, in a folder that is the sweep's
+# own): that group stops, the other finishes its members, world rank 0 says which group
+# failed, every rank exits 1, no hang.
+mkdir "$work/err" && : >"$work/err/.cmcsurf" && echo x >"$work/err/P_0.60"
 mpi "${args[@]}" --groups 2 --no-plot --no-preview --out "$work/err" 2>"$work/err.log"
 rc=$?
 [ $rc = 1 ] || { echo "FAIL: an error in one group exited $rc, want 1"; cat "$work/err.log"; fail=1; }
