@@ -669,6 +669,7 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
   }
   RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
+  if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   return result;
 }
 
