@@ -119,3 +119,17 @@ def test_save_writes_the_file_json_of_cmcsurf_mesh(gyroid_result, gyroid_cli, tm
         comparable({k: v for k, v in cli.items() if k not in ("file", "source")})
     assert cli["source"] == str(gyroid_cli) and ours["source"].startswith("cmcsurf.Result: G")
     assert (tmp_path / "py.stl").read_bytes() == (tmp_path / "cli.stl").read_bytes()
+
+
+def test_a_member_of_another_topology_is_refused():
+    # Issue 23: P at volume fraction 0.2 on 32^3 ends on separate balls (Euler characteristic
+    # 1) where its family, the nodal P it starts from, is the genus-3 network (-2).
+    balls = cmcsurf.run("P", 0.2, 32, threads=1)
+    assert balls.report["topology_changed"] and balls.report["euler_characteristic_start"] == -2
+    with pytest.raises(RuntimeError, match="Euler characteristic 1 .* -2 "):
+        cmcsurf.mesh(balls, solid="network")
+    # Taken anyway, the balls are pieces that fragment removal may not silently drop.
+    with pytest.raises(RuntimeError, match="pieces"):
+        cmcsurf.mesh(balls, solid="network", accept_topology_change=True)
+    m = cmcsurf.mesh(balls, solid="network", accept_topology_change=True, keep_fragments=True)
+    assert m.report["topology"]["solid_components"] > 1
