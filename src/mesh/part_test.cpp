@@ -243,6 +243,25 @@ TEST(Part, OverlappingShellsFillTheirUnion) {
   }
 }
 
+// Issue 23: a target no level reaches is warned about without blaming a --skin that was not
+// given (a rod of porosity 0.8 in a 0/1 field cannot be thickened to porosity 0.5).
+TEST(Part, MissedPorosityWarningNamesTheSkinOnlyWithOne) {
+  const Field rod = from_function(16, [](double x, double y, double) {
+    return (x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) < 0.0625 ? 1.0 : 0.0;
+  });
+  ScaffoldDesign d;
+  d.cell_size = 1.0;
+  d.size = {1.0, 1.0, 1.0};
+  d.porosity = 0.5;
+  d.morphometry = false;
+  const ScaffoldPart part = design_scaffold(rod, d);
+  ASSERT_GT(std::abs(part.report["porosity_error"].get<double>()), 1e-3);
+  std::string all;
+  for (const std::string& w : part.warnings) all += w + "\n";
+  EXPECT_NE(all.find("no network level reaches it"), std::string::npos) << all;
+  EXPECT_EQ(all.find("skin"), std::string::npos) << all;
+}
+
 // The part written as 3MF reads back through lib3mf with the same triangles and units.
 TEST(Part, ThreeMfReadsBack) {
   ScaffoldDesign d;

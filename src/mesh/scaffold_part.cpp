@@ -79,17 +79,27 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
     // Sheet: a level step moves both walls by cell_size per unit, over the mesh's area.
     if (d.solid == SolidKind::kSheet) slope = e.area * d.cell_size / lat.porosity_volume();
     double next = slope > 0 ? level - (e.porosity - d.porosity) / slope : level + 1e-3;
+    // A network's level stays inside the lattice's values: beyond them the part is all solid
+    // or empty, and a secant step on a flat porosity (a field that no level thickens) got there.
+    const auto [a_lo, a_hi] = std::minmax_element(lat.a.begin(), lat.a.end());
+    const double margin = 0.01 * (double(*a_hi) - double(*a_lo));
+    double last_level = e.level, last_porosity = e.porosity;  // the secant's other point
     while (iterations < kMaxSolveIterations) {
+      if (d.solid == SolidKind::kNetwork)
+        next = std::clamp(next, double(*a_lo) + margin, double(*a_hi) - margin);
       Evaluation cur = evaluate(lat, next, d.keep_fragments);
       ++iterations;
-      const double secant = (cur.porosity - e.porosity) / (cur.level - e.level);
-      e = std::move(cur);
-      const double err = e.porosity - d.porosity;
+      const double secant = (cur.porosity - last_porosity) / (cur.level - last_level);
+      last_level = cur.level, last_porosity = cur.porosity;
+      const double err = cur.porosity - d.porosity;
+      if (std::abs(err) <= std::abs(e.porosity - d.porosity)) e = std::move(cur);  // the best
       if (std::abs(err) <= d.porosity_tol) break;
       if (!(std::abs(secant) > 0) || !std::isfinite(secant)) break;
-      next = e.level - err / secant;
+      next = last_level - err / secant;
       if (d.solid == SolidKind::kSheet) next = std::min(next, -0.5 / n);  // a wall of at least h
     }
+    // The lattice's fragment marks are the last level's: those of the best again.
+    if (e.level != last_level) e = evaluate(lat, e.level, d.keep_fragments);
   }
   const double solve_seconds = seconds_since(t0);
   const PartTopology& topo = e.topology;
