@@ -678,6 +678,7 @@ RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
   check_resumable(params, context, RunEntry::kCmcFromField);
   RunResult result = run_cmc_stages(params, context, &phi0);
   measure_final(result, params);
+  if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   return result;
 }
 

@@ -30,8 +30,8 @@ struct MemberTopology {
 
 // From a run's report (report.json, or a scaffold cache's member.json "run"): the member's chi
 // and its family's (euler_characteristic_start; computed from the surface and grid when the
-// report lacks it: written before issue 23, or a sweep member continued from a neighbour). nullopt when the report says neither (no nodal target, or no sharp
-// measures).
+// report lacks it: written before issue 23, or a sweep member continued from a neighbour).
+// nullopt when the report says neither (no nodal target, or no sharp measures).
 std::optional<MemberTopology> member_topology(const nlohmann::json& run_report);
 
 // A member of another topology than its family's, refused by scaffold, mesh and Python's mesh.
