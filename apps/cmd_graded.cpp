@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "common/wall_clock.h"
@@ -29,6 +30,26 @@ struct GradedCommand {
   bool quiet = false;
 };
 
+// The --members items, each split at its commas; an empty one is refused by its position.
+std::vector<std::string> split_members(const std::vector<std::string>& given) {
+  std::vector<std::string> out;
+  for (const std::string& g : given) {
+    std::size_t pos = 0;
+    for (;;) {
+      const std::size_t comma = g.find(',', pos);
+      const std::string item = g.substr(pos, comma == std::string::npos ? comma : comma - pos);
+      if (item.empty())
+        throw UsageError(fmt::format("--members: item {} of '{}' is empty; accepted: run "
+                                     "directories or .vti files separated by single commas",
+                                     out.size() + 1, g));
+      out.push_back(item);
+      if (comma == std::string::npos) break;
+      pos = comma + 1;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 CommandFn add_graded_command(CLI::App& root) {
@@ -40,8 +61,8 @@ CommandFn add_graded_command(CLI::App& root) {
       "graded --members g30,g40,g50,g60 --axis z --from-fraction 0.3 --to-fraction 0.6 --tile "
       "2x2x6 --cell-size 2.5 --solid network --out graded.stl");
   app->add_option("--members", cmd->members,
-                  "Run directories or .vti files of one surface family (same grid), two or more")
-      ->delimiter(',')
+                  "Run directories or .vti files of one surface family (same grid), two or more, "
+                  "comma-separated")
       ->required();
   app->add_option("--axis", cmd->axis, "Ramp axis: x, y or z")->capture_default_str();
   app->add_option("--from-fraction", cmd->from_fraction,
@@ -65,12 +86,18 @@ CommandFn add_graded_command(CLI::App& root) {
                 throw UsageError(fmt::format("{}: got {}; accepted: 0 < value < 1", name, v));
             if (cmd->mesh.solid == "sheet")
               throw UsageError("--solid: graded accepts surface|network");
+            cmd->members = split_members(cmd->members);
             if (cmd->members.size() < 2)
               throw UsageError("--members: give at least two run directories");
+            std::vector<FileRole> reads;
+            for (const std::string& m : cmd->members)
+              for (FileRole& f : field_inputs(m, "--members '" + m + "'")) reads.push_back(f);
+            refuse_overwriting_inputs(reads, cmd->mesh.out);
             std::vector<GradedMember> members;
             // The volume constraint's tolerance the members were computed to (their
             // report.json; the default for a bare .vti): their targets are accepted as ends.
             double fraction_tol = RunParams{}.volume_tol;
+            std::string family, family_member;
             for (const std::string& m : cmd->members) {
               const std::filesystem::path report = std::filesystem::path(m) / "report.json";
               if (std::filesystem::is_regular_file(report)) {
@@ -80,8 +107,18 @@ CommandFn add_graded_command(CLI::App& root) {
                   fraction_tol = std::max(fraction_tol, r["parameters"]["volume_tol"].get<double>());
               }
               GradedMember g;
-              g.phi = load_phi(m, "--members");
+              std::map<std::string, std::string> metadata;
+              g.phi = load_phi(m, "--members", &metadata);
               g.volume_fraction = sharp_volume_fraction(g.phi);
+              // One family: every member that names its surface names the same one.
+              if (const auto it = metadata.find("surface"); it != metadata.end()) {
+                if (family.empty()) family = it->second, family_member = m;
+                else if (it->second != family)
+                  throw UsageError(fmt::format(
+                      "--members: '{}' is a member of surface {}, '{}' of {}; accepted: members "
+                      "of one family", m, it->second, family_member, family));
+              }
+              check_field_topology(m, cmd->mesh.accept_topology_change);
               if (!members.empty() && g.phi.n() != members[0].phi.n())
                 throw UsageError(fmt::format("--members: '{}' has grid {}, the first has {}; all "
                                              "members must have the same grid",

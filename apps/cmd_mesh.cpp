@@ -3,6 +3,7 @@
 
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -11,6 +12,15 @@
 namespace cmcsurf::cli {
 
 namespace {
+
+// Some cell on each side of 1/2.
+bool has_surface(const Field& phi) {
+  bool above = false, below = false;
+  for_each_cell(phi.n(), [&](int i, int j, int k) {
+    (phi(i, j, k) > 0.5 ? above : below) = true;
+  });
+  return above && below;
+}
 
 struct MeshCommand {
   std::string from;
@@ -33,8 +43,14 @@ CommandFn add_mesh_command(CLI::App& root) {
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No summary output");
   return {app, [cmd]() -> int {
+            refuse_overwriting_inputs(field_inputs(cmd->from, "--from"), cmd->mesh.out);
             const Field phi = load_phi(cmd->from, "--from");
             const MeshPlan plan = finish_mesh_output_options(cmd->mesh, phi.n());
+            if (!has_surface(phi))
+              throw std::runtime_error(fmt::format(
+                  "--from '{}': the field has no phi = 1/2 surface (every value on one side of "
+                  "1/2): nothing to mesh, nothing written", cmd->from));
+            check_field_topology(cmd->from, cmd->mesh.accept_topology_change);
             apply_threads(cmd->threads);
             const Scaffold s = build_scaffold(phi, plan.params);
             write_mesh_with_report(s.mesh, s.report, plan, {{"source", cmd->from}});

@@ -16,12 +16,15 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "io/atomic_file.h"
+#include "io/file_checksum.h"
+#include "io/file_identity.h"
 #include "io/json_file.h"
 #include "io/mesh_output.h"
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "mesh/scaffold_part.h"
 #include "mesh/shape.h"
+#include "pipeline/member_topology.h"
 #include "pipeline/scaffold_compare.h"
 #include "mesh_options.h"
 #include "run_control.h"
@@ -32,6 +35,8 @@ namespace {
 
 // About 5 GB of lattice (value, label, mark) before the mesh.
 constexpr double kMaxPartNodes = 5.4e8;
+// A triangle budget: more than a lattice of kMaxPartNodes could give is no budget.
+constexpr long kMaxTriangles = 4'000'000'000L;
 
 struct ScaffoldCommand {
   RunParams params;
@@ -52,6 +57,7 @@ struct ScaffoldCommand {
   double tolerance = 0.0;
   double min_feature = 0.0;
   bool compare_nodal = false;
+  bool accept_topology_change = false;
   std::string shape;
   double skin = 0.0;
   CLI::Option* size_option = nullptr;
@@ -62,8 +68,8 @@ struct ScaffoldCommand {
 // "AxBxC" or "A" in output units, each > 0.
 Vec3 parse_size(const std::string& s) {
   const auto bad = [&] {
-    return UsageError(fmt::format("--size: got '{}'; accepted: AxBxC or A, numbers > 0 and <= 1e6 "
-                                  "in --units", s));
+    return UsageError(fmt::format("--size: got '{}'; accepted: AxBxC or A, numbers {:g} .. {:g} "
+                                  "in --units", s, kMinCellSize, kMaxCellSize));
   };
   std::vector<double> parts;
   std::size_t pos = 0;
@@ -72,7 +78,9 @@ Vec3 parse_size(const std::string& s) {
     const std::string part = s.substr(pos, x == std::string::npos ? std::string::npos : x - pos);
     char* end = nullptr;
     const double v = std::strtod(part.c_str(), &end);
-    if (part.empty() || end != part.c_str() + part.size() || !(v > 0) || v > 1e6) throw bad();
+    if (part.empty() || end != part.c_str() + part.size() ||
+        !(v >= kMinCellSize && v <= kMaxCellSize))
+      throw bad();
     parts.push_back(v);
     if (x == std::string::npos) break;
     pos = x + 1;
@@ -139,13 +147,31 @@ Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
   about = {{"cache", dir.string()}, {"parameters", params}};
   if (std::filesystem::is_regular_file(dir / "member.json") &&
       std::filesystem::is_regular_file(dir / "field.vti")) {
-    const nlohmann::json saved = read_json_file(dir / "member.json");
-    if (saved.value("parameters", nlohmann::json()) == params) {
-      about["reused"] = true;
-      about["run"] = saved.value("run", nlohmann::json());
-      if (!cmd.quiet) std::cerr << fmt::format("reusing the member in {}\n", dir.string());
-      return load_phi(dir.string(), "--cache");
+    // A finished entry is reused only when its field file still has the CRC-32 it was
+    // written with; a damaged or unreadable one is recomputed (and overwritten).
+    std::string problem;
+    try {
+      const nlohmann::json saved = read_json_file(dir / "member.json");
+      if (saved.value("parameters", nlohmann::json()) == params) {
+        const auto crc = file_crc32(dir / "field.vti");
+        const nlohmann::json want = saved.value("field_crc32", nlohmann::json());
+        if (!crc) problem = "its field.vti cannot be read";
+        else if (!want.is_number_unsigned()) problem = "its member.json has no field_crc32";
+        else if (want.get<std::uint64_t>() != *crc) problem = "its field.vti fails its CRC-32";
+        if (problem.empty()) {
+          Field phi = load_phi(dir.string(), "--cache");
+          about["reused"] = true;
+          about["run"] = saved.value("run", nlohmann::json());
+          if (!cmd.quiet) std::cerr << fmt::format("reusing the member in {}\n", dir.string());
+          return phi;
+        }
+      }
+    } catch (const std::exception& e) {
+      problem = e.what();
     }
+    if (!problem.empty() && !cmd.quiet)
+      std::cerr << fmt::format("note: the cached member in {} is not reused ({}); recomputing\n",
+                               dir.string(), problem);
   }
   if (!cmd.quiet)
     std::cerr << fmt::format("computing the member: surface {} alpha {:g} N {} (cached in {})\n",
@@ -155,15 +181,43 @@ Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
   progress.finish();
   const nlohmann::json run = run_report(p, r, apply_threads(0));
   ensure_directory(dir);
+  std::filesystem::remove(dir / "member.json");  // the entry is unfinished until rewritten
   write_vti(dir / "field.vti", {{"phi", &r.phi}}, false, {{"surface", p.surface}});
-  write_json_atomic(dir / "member.json", {{"parameters", params}, {"run", run}});
+  const auto crc = file_crc32(dir / "field.vti");
+  if (!crc)
+    throw std::runtime_error(fmt::format("cannot read back '{}'", (dir / "field.vti").string()));
+  write_json_atomic(dir / "member.json",
+                    {{"parameters", params}, {"run", run}, {"field_crc32", *crc}});
   about["reused"] = false;
   about["run"] = run;
   return std::move(r.phi);
 }
 
+// A member of another topology than its family's is not the lattice asked for (issue 23).
+void check_topology(const ScaffoldCommand& cmd, const nlohmann::json& about) {
+  const auto t = member_topology(about.value("run", nlohmann::json()));
+  if (!t) return;
+  if (t->changed() && cmd.accept_topology_change) {
+    if (!cmd.quiet)
+      std::cerr << fmt::format("warning: the member's Euler characteristic {} is not its "
+                               "family's {} (--accept-topology-change)\n", t->member, t->family);
+    return;
+  }
+  check_member_topology(*t, fmt::format("--surface {} (member in {})", t->surface,
+                                        about.value("cache", std::string())),
+                        "--accept-topology-change");
+}
+
 int run_scaffold(ScaffoldCommand& cmd) {
   // Everything is checked before anything is computed or written.
+  try {
+    std::vector<FileRole> reads;
+    if (!cmd.shape.empty()) reads.push_back({cmd.shape, "--shape"});
+    check_outputs_are_not_inputs(
+        reads, {{cmd.out, "--out"}, {cmd.out + ".json", "--out's report (FILE.json)"}});
+  } catch (const OptionError& e) {
+    throw UsageError(e.what());
+  }
   cmd.params.surface = cmd.surface;
   ScaffoldDesign d;
   std::optional<PorosityRamp> ramp = parse_porosity(cmd.porosity, cmd.axis, d.porosity);
@@ -177,8 +231,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
   if (cmd.compare_nodal && ramp)
     throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
-  if (!(cmd.cell_size > 0) || !std::isfinite(cmd.cell_size) || cmd.cell_size > 1e6)
-    throw UsageError(fmt::format("--cell-size: got {}; accepted: > 0 and <= 1e6", cmd.cell_size));
+  if (!(cmd.cell_size >= kMinCellSize && cmd.cell_size <= kMaxCellSize))
+    throw UsageError(fmt::format("--cell-size: got {}; accepted: {:g} .. {:g} (in --units; a "
+                                 "smaller unit for smaller cells)",
+                                 cmd.cell_size, kMinCellSize, kMaxCellSize));
   d.cell_size = cmd.cell_size;
   d.size = parse_size(cmd.size);
   std::optional<ShapeFill> shape;
@@ -211,14 +267,17 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--units: got '{}'; accepted: {}", cmd.units, mesh_units_list()));
   d.units = cmd.units;
   d.keep_fragments = cmd.keep_fragments;
-  if (cmd.max_triangles < 0)
-    throw UsageError(fmt::format("--max-triangles: got {}; accepted: >= 1 (0: no budget)", cmd.max_triangles));
+  if (cmd.max_triangles < 0 || cmd.max_triangles > kMaxTriangles)
+    throw UsageError(fmt::format("--max-triangles: got {}; accepted: 1 .. {} (0: no budget)",
+                                 cmd.max_triangles, kMaxTriangles));
   d.decimate.max_triangles = std::size_t(cmd.max_triangles);
-  if (!(cmd.tolerance >= 0) || !std::isfinite(cmd.tolerance))
-    throw UsageError(fmt::format("--tolerance: got {}; accepted: >= 0 in --units", cmd.tolerance));
+  if (!(cmd.tolerance >= 0 && cmd.tolerance <= kMaxCellSize))
+    throw UsageError(fmt::format("--tolerance: got {}; accepted: 0 .. {:g} in --units (0: none)",
+                                 cmd.tolerance, kMaxCellSize));
   d.decimate.tolerance = cmd.tolerance;
-  if (!(cmd.min_feature >= 0) || !std::isfinite(cmd.min_feature))
-    throw UsageError(fmt::format("--min-feature: got {}; accepted: >= 0 in --units", cmd.min_feature));
+  if (!(cmd.min_feature >= 0 && cmd.min_feature <= kMaxCellSize))
+    throw UsageError(fmt::format("--min-feature: got {}; accepted: 0 .. {:g} in --units (0: "
+                                 "none)", cmd.min_feature, kMaxCellSize));
   d.min_feature = cmd.min_feature;
   cmd.params.volume_fraction = member_volume_fraction(d);
   finish_run_options(cmd.params, cmd.strings, true);
@@ -266,12 +325,14 @@ int run_scaffold(ScaffoldCommand& cmd) {
       nlohmann::json about;
       GradedMember g;
       g.phi = member_field(cmd, p, cache, about);
+      check_topology(cmd, about);
       g.volume_fraction = about["run"].value("volume_fraction", p.volume_fraction);
       members.push_back(std::move(g));
       member.push_back(about);
     }
   } else {
     phi = member_field(cmd, cmd.params, cache, member);
+    check_topology(cmd, member);
   }
   const double member_seconds =
       seconds_since(t0);
@@ -441,6 +502,9 @@ CommandFn add_scaffold_command(CLI::App& root) {
                 "Also build the same design from the nodal approximation at the member's volume "
                 "fraction and report both side by side (curvature, wall and pore spread, "
                 "specific surface) in FILE.json");
+  app->add_flag("--accept-topology-change", cmd->accept_topology_change,
+                "Use a member whose topology (Euler characteristic) differs from its family's "
+                "(the nodal start's); refused by default");
   add_run_options(*app, cmd->params, cmd->strings, false);
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress or summary output");

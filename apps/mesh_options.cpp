@@ -12,6 +12,8 @@
 #include "io/json_file.h"
 #include "io/pvti.h"
 #include "io/vti.h"
+#include "pipeline/member_topology.h"
+#include "run_control.h"
 
 namespace cmcsurf::cli {
 
@@ -41,6 +43,9 @@ void add_mesh_output_options(CLI::App& app, MeshOptionStrings& s, bool with_shee
                  "Solids: keep the pieces the box cuts off (default: removed and reported)");
   if (with_sheet)
     app.add_option("--thickness", s.thickness, "Sheet wall thickness in output units");
+  app.add_flag("--accept-topology-change", s.accept_topology_change,
+               "Mesh a member whose topology (Euler characteristic in its report.json) differs "
+               "from its family's (euler_characteristic_start); refused by default");
   app.add_option("--format", s.format,
                  std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");
   app.add_option("--out", s.out, "Output mesh file (a report goes to FILE.json)")->required();
@@ -54,7 +59,8 @@ MeshPlan finish_mesh_output_options(const MeshOptionStrings& s, int n) {
   }
 }
 
-Field load_phi(const std::string& from, const std::string& option) {
+Field load_phi(const std::string& from, const std::string& option,
+               std::map<std::string, std::string>* metadata) {
   std::filesystem::path path(from);
   if (std::filesystem::is_directory(path)) {
     try {
@@ -72,7 +78,62 @@ Field load_phi(const std::string& from, const std::string& option) {
   options.max_n = kMaxCellsPerAxis;  // refused before anything is allocated
   options.only = "phi";              // the phase field cmcsurf writes; no other array is read
   VtiData data = read_field_file(path, options);
+  if (metadata) *metadata = data.metadata;
   return std::move(data.arrays.at("phi"));
+}
+
+std::vector<FileRole> field_inputs(const std::string& from, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::vector<FileRole> reads;
+  fs::path field(from);
+  if (fs::is_directory(field)) {
+    try {
+      field = run_field_file(field);
+    } catch (const std::runtime_error&) {
+      return reads;  // load_phi names the problem
+    }
+  }
+  reads.push_back({field, option});
+  std::error_code ec;
+  if (field.extension() == ".pvti" && fs::is_directory(pvti_piece_dir(field), ec))
+    for (const auto& e : fs::directory_iterator(pvti_piece_dir(field), ec))
+      reads.push_back({e.path(), option + "'s piece"});
+  if (const fs::path report = field_run_report(from); !report.empty())
+    reads.push_back({report, option + "'s report.json"});
+  return reads;
+}
+
+std::filesystem::path field_run_report(const std::string& from) {
+  namespace fs = std::filesystem;
+  const fs::path path(from);
+  fs::path report;
+  if (fs::is_directory(path)) report = path / "report.json";
+  else if (path.filename() == kRunFieldVti || path.filename() == kRunFieldPvti)
+    report = path.parent_path() / "report.json";
+  return !report.empty() && fs::is_regular_file(report) ? report : fs::path();
+}
+
+void refuse_overwriting_inputs(const std::vector<FileRole>& reads,
+                               const std::filesystem::path& out) {
+  try {
+    cmcsurf::check_outputs_are_not_inputs(
+        reads, {{out, "--out"}, {out.string() + ".json", "--out's report (FILE.json)"}});
+  } catch (const OptionError& e) {
+    throw UsageError(e.what());
+  }
+}
+
+void check_field_topology(const std::string& from, bool accept) {
+  const std::filesystem::path report = field_run_report(from);
+  if (accept || report.empty()) return;
+  nlohmann::json r;
+  try {
+    r = read_json_file(report);
+  } catch (const std::exception&) {
+    return;  // not a report of ours: nothing to compare with
+  }
+  if (const auto t = member_topology(r))
+    check_member_topology(*t, fmt::format("'{}'", from), "--accept-topology-change");
 }
 
 }  // namespace cmcsurf::cli

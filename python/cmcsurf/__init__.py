@@ -277,6 +277,7 @@ def mesh(
     *,
     other_phase: bool = False,
     keep_fragments: bool = False,
+    accept_topology_change: bool = False,
     threads: int = 0,
 ) -> Mesh:
     """A watertight scaffold mesh of a :class:`Result` or an (N, N, N) field, as
@@ -285,7 +286,10 @@ def mesh(
     ``thickness`` output units around the interface), ``tile`` unit cells along x, y, z, each
     ``cell_size`` ``units`` wide. ``keep_fragments`` (``--keep-fragments``): solids keep the
     pieces the box cuts off (by default they are removed; ``.report["topology"]`` says how
-    many, their volume and whether they were removed).
+    many, their volume and whether they were removed); removing more than 1e-3 of the box (a
+    solid in pieces) raises RuntimeError. A :class:`Result` whose member's Euler characteristic
+    differs from its family's (``report["topology_changed"]``) raises RuntimeError unless
+    ``accept_topology_change``.
 
     Returns a :class:`Mesh`: ``.vertices`` (n, 3) float64 (x, y, z along the field's axes i, j,
     k), ``.faces`` (m, 3) int64 (counter-clockwise seen from outside), ``.report`` (the dict of
@@ -305,7 +309,8 @@ def mesh(
         tile_spec = "x".join(str(t) for t in parts)
     options = {"tile": tile_spec, "cell_size": cell_size, "units": units, "solid": solid,
                "thickness": thickness, "other_phase": other_phase,
-               "keep_fragments": keep_fragments}
+               "keep_fragments": keep_fragments,
+               "accept_topology_change": accept_topology_change}
     return _cmcsurf.mesh(source, options, threads)
 
 

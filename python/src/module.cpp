@@ -38,6 +38,7 @@
 #include "mesh/scaffold.h"
 #include "multigrid/fas.h"
 #include "pipeline/cmc.h"
+#include "pipeline/member_topology.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
@@ -829,6 +830,7 @@ MeshOutputOptions mesh_options(const py::dict& options) {
     }
     else if (key == "other_phase") o.other_phase = bool_option(v, key);
     else if (key == "keep_fragments") o.keep_fragments = bool_option(v, key);
+    else if (key == "accept_topology_change") o.accept_topology_change = bool_option(v, key);
     else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
   }
   return o;
@@ -850,6 +852,15 @@ std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handl
   }
   const MeshOutputOptions o = mesh_options(options);
   out->params = scaffold_params(o, phi->n());
+  if (py::isinstance<Result>(source) && !o.accept_topology_change) {
+    // A member of another topology than its family's (pipeline/member_topology.h).
+    const Result& r = py::cast<Result&>(source);
+    if (r.result.euler_characteristic_start && r.result.final.sharp)
+      check_member_topology({r.params.surface, r.params.volume_fraction,
+                             r.result.final.euler_characteristic,
+                             *r.result.euler_characteristic_start},
+                            "cmcsurf.Result", "accept_topology_change=True");
+  }
   ThreadScope scope(threads);
   {
     py::gil_scoped_release release;

@@ -69,14 +69,14 @@ def test_save_refuses_unknown_format(gyroid_result, tmp_path):
 
 
 def test_keep_fragments_keeps_the_pieces_the_box_cuts_off():
-    # A slab through the box (one piece with its periodic images) and a ball apart from it:
-    # the ball is the loose fragment that `cmcsurf mesh` removes unless --keep-fragments.
+    # A slab through the box (one piece with its periodic images) and one cell apart from it:
+    # a fragment under 1e-3 of the box, which `cmcsurf mesh` removes unless --keep-fragments.
     n = 16
     x = (np.arange(n) + 0.5) / n
     X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
     phi = np.zeros((n, n, n))
     phi[np.abs(Y - 0.25) < 0.12] = 1.0
-    phi[(X - 0.5) ** 2 + (Y - 0.75) ** 2 + (Z - 0.5) ** 2 < 0.15 ** 2] = 1.0
+    phi[8, 12, 8] = 1.0
     removed = cmcsurf.mesh(phi, solid="network")
     kept = cmcsurf.mesh(phi, solid="network", keep_fragments=True)
     assert removed.report["topology"]["fragments"] == kept.report["topology"]["fragments"] == 1
@@ -88,6 +88,21 @@ def test_keep_fragments_keeps_the_pieces_the_box_cuts_off():
         removed.report["topology"]["fragment_volume"], rel=1e-9)
     with pytest.raises(TypeError, match="keep_fragments"):
         cmcsurf.mesh(phi, solid="network", keep_fragments="yes")
+
+
+def test_a_solid_in_pieces_is_refused_not_trimmed():
+    # Issue 23: a ball beside the slab is 1.4 % of the box; removing it would move the volume
+    # fraction past its tolerance without a word, so mesh() raises unless keep_fragments.
+    n = 16
+    x = (np.arange(n) + 0.5) / n
+    X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
+    phi = np.zeros((n, n, n))
+    phi[np.abs(Y - 0.25) < 0.12] = 1.0
+    phi[(X - 0.5) ** 2 + (Y - 0.75) ** 2 + (Z - 0.5) ** 2 < 0.15 ** 2] = 1.0
+    with pytest.raises(RuntimeError, match="pieces"):
+        cmcsurf.mesh(phi, solid="network")
+    kept = cmcsurf.mesh(phi, solid="network", keep_fragments=True)
+    assert kept.report["topology"]["fragments"] == 1
 
 
 def test_save_writes_the_file_json_of_cmcsurf_mesh(gyroid_result, gyroid_cli, tmp_path):
@@ -104,3 +119,17 @@ def test_save_writes_the_file_json_of_cmcsurf_mesh(gyroid_result, gyroid_cli, tm
         comparable({k: v for k, v in cli.items() if k not in ("file", "source")})
     assert cli["source"] == str(gyroid_cli) and ours["source"].startswith("cmcsurf.Result: G")
     assert (tmp_path / "py.stl").read_bytes() == (tmp_path / "cli.stl").read_bytes()
+
+
+def test_a_member_of_another_topology_is_refused():
+    # Issue 23: P at volume fraction 0.2 on 32^3 ends on separate balls (Euler characteristic
+    # 1) where its family, the nodal P it starts from, is the genus-3 network (-2).
+    balls = cmcsurf.run("P", 0.2, 32, threads=1)
+    assert balls.report["topology_changed"] and balls.report["euler_characteristic_start"] == -2
+    with pytest.raises(RuntimeError, match="Euler characteristic 1 .* -2 "):
+        cmcsurf.mesh(balls, solid="network")
+    # Taken anyway, the balls are pieces that fragment removal may not silently drop.
+    with pytest.raises(RuntimeError, match="pieces"):
+        cmcsurf.mesh(balls, solid="network", accept_topology_change=True)
+    m = cmcsurf.mesh(balls, solid="network", accept_topology_change=True, keep_fragments=True)
+    assert m.report["topology"]["solid_components"] > 1

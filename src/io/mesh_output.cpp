@@ -48,8 +48,10 @@ std::array<int, 3> parse_tiles(const std::string& s, int n) {
 ScaffoldParams scaffold_params(const MeshOutputOptions& s, int n) {
   ScaffoldParams p;
   p.tiles = parse_tiles(s.tile, n);
-  if (!(s.cell_size > 0) || !std::isfinite(s.cell_size) || s.cell_size > 1e6)
-    throw OptionError(fmt::format("--cell-size: got {}; accepted: > 0 and <= 1e6", s.cell_size));
+  if (!(s.cell_size >= kMinCellSize && s.cell_size <= kMaxCellSize))
+    throw OptionError(fmt::format("--cell-size: got {}; accepted: {:g} .. {:g} (in --units; "
+                                  "a smaller unit for smaller cells)",
+                                  s.cell_size, kMinCellSize, kMaxCellSize));
   p.cell_size = s.cell_size;
   if (!is_mesh_unit(s.units))
     throw OptionError(fmt::format("--units: got '{}'; accepted: {}", s.units, mesh_units_list()));

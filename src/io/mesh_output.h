@@ -23,10 +23,16 @@ struct MeshOutputOptions {
   std::string solid = "surface";
   bool other_phase = false;
   bool keep_fragments = false;
+  // Mesh a member whose topology differs from its family's (pipeline/member_topology.h).
+  bool accept_topology_change = false;
   double thickness = 0.0;  // 0: not given
   std::string format;      // empty: from the extension of out
   std::string out;
 };
+
+// The range of --cell-size (and of scaffold's --size), in output units: below it float32 and
+// 3MF coordinates (6 decimals) lose the lattice; pick a smaller unit instead.
+inline constexpr double kMinCellSize = 1e-3, kMaxCellSize = 1e6;
 
 struct MeshPlan {
   ScaffoldParams params;

@@ -181,6 +181,10 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   for (auto& [key, value] : final_measures.items()) j[key] = value;
   j["final_d_area"] = r.history.empty() ? 0.0 : r.history.back().d_area;
   j["final_d_phi"] = r.history.empty() ? 0.0 : r.history.back().d_phi;
+  if (r.euler_characteristic_start && r.final.sharp) {  // the family's topology, the member's
+    j["euler_characteristic_start"] = *r.euler_characteristic_start;
+    j["topology_changed"] = *r.euler_characteristic_start != r.final.euler_characteristic;
+  }
   j["initial"] = measures_json(r.initial);
   if (r.bisection) {
     j["bisection"] = {{"beta", r.bisection->beta},
@@ -226,6 +230,9 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
       {"euler_characteristic",
        "of phase 1 (phi > 1/2) as the union of its closed voxels in the periodic cell: tells "
        "which member of a family a run found near a topology change (docs/families.md)"},
+      {"euler_characteristic_start",
+       "the same of the nodal start phi^0 (step 1's field): the family's topology; "
+       "topology_changed: the run ended on a member of another one"},
       {"genus", "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
                 "connected (P 3, G 5, D 9; a ball 0)"},
       {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},

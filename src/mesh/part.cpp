@@ -266,4 +266,15 @@ nlohmann::json part_topology_json(const PartTopology& t, const std::string& unit
           {"seconds", t.seconds}};
 }
 
+void check_fragment_share(const PartTopology& t, double volume, double tol,
+                          const std::string& units) {
+  if (!t.fragments_removed || !(t.fragment_volume > tol * volume)) return;
+  throw FragmentRemovalError(fmt::format(
+      "the solid is in {} pieces: removing all but the largest would take {:.4g} {}^3, {:.3g} "
+      "of the part's volume (more than {:g}), so nothing was written. The member is not a "
+      "connected lattice (another topology, or a field of separate pieces); --keep-fragments "
+      "writes every piece",
+      t.solid_components, t.fragment_volume, units, t.fragment_volume / volume, tol));
+}
+
 }  // namespace cmcsurf

@@ -10,6 +10,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -80,5 +82,16 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments);
 TriMesh mesh_part(const PartLattice& lat, double level);
 
 nlohmann::json part_topology_json(const PartTopology& t, const std::string& units);
+
+// Removing fragments moved the porosity by more than its tolerance: the solid is in pieces
+// (a member of another topology, such as separate balls), not a lattice with slivers cut off.
+struct FragmentRemovalError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Throws FragmentRemovalError when the removed fragments hold more than `tol` of `volume`
+// (the box's or the shape's; the porosity moves by their share).
+void check_fragment_share(const PartTopology& t, double volume, double tol,
+                          const std::string& units);
 
 }  // namespace cmcsurf

@@ -214,6 +214,54 @@ TEST(Part, ShapeFillHoldsThePorosityOverTheShape) {
   }
 }
 
+// Issue 23: two overlapping closed cubes in one STL (4^3 each, overlapping in 2^3) are their
+// union, 120 and not the 128 their triangles sum to: the porosity holds over the union, and
+// a skin follows only the union's surface (no wall along a face inside the other cube).
+TEST(Part, OverlappingShellsFillTheirUnion) {
+  TempDir dir("part_test");
+  TriMesh two = box_mesh({0, 0, 0}, {4, 4, 4});
+  const TriMesh b = box_mesh({2, 2, 2}, {6, 6, 6});
+  for (const auto& t : b.triangles)
+    two.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
+  two.vertices.insert(two.vertices.end(), b.vertices.begin(), b.vertices.end());
+  write_stl(dir / "two.stl", two);
+  ShapeFill shape;
+  shape.mesh = read_stl(dir / "two.stl");
+  ScaffoldDesign d;
+  d.cell_size = 2.0;
+  d.porosity = 0.6;
+  d.morphometry = false;
+  const Field phi = nodal("G", 16);
+  for (const double skin : {0.0, 0.2}) {
+    shape.skin = skin;
+    const ScaffoldPart part = design_scaffold(phi, d, &shape);
+    EXPECT_NEAR(part.report["shape"]["volume_triangles"].get<double>(), 128.0, 1e-6);
+    EXPECT_NEAR(part.report["shape"]["volume"].get<double>(), 120.0, 0.3) << skin;
+    const double solid = analyze_mesh(part.mesh).volume;
+    EXPECT_NEAR(1.0 - solid / 120.0, 0.6, 2e-3) << skin;
+    EXPECT_NEAR(part.report["porosity"].get<double>(), 0.6, 1e-3) << skin;
+  }
+}
+
+// Issue 23: a target no level reaches is warned about without blaming a --skin that was not
+// given (a rod of porosity 0.8 in a 0/1 field cannot be thickened to porosity 0.5).
+TEST(Part, MissedPorosityWarningNamesTheSkinOnlyWithOne) {
+  const Field rod = from_function(16, [](double x, double y, double) {
+    return (x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) < 0.0625 ? 1.0 : 0.0;
+  });
+  ScaffoldDesign d;
+  d.cell_size = 1.0;
+  d.size = {1.0, 1.0, 1.0};
+  d.porosity = 0.5;
+  d.morphometry = false;
+  const ScaffoldPart part = design_scaffold(rod, d);
+  ASSERT_GT(std::abs(part.report["porosity_error"].get<double>()), 1e-3);
+  std::string all;
+  for (const std::string& w : part.warnings) all += w + "\n";
+  EXPECT_NE(all.find("no network level reaches it"), std::string::npos) << all;
+  EXPECT_EQ(all.find("skin"), std::string::npos) << all;
+}
+
 // The part written as 3MF reads back through lib3mf with the same triangles and units.
 TEST(Part, ThreeMfReadsBack) {
   ScaffoldDesign d;

@@ -22,6 +22,9 @@ namespace cmcsurf {
 
 namespace {
 
+// Fragments the box cuts off whole tiles hold ~1e-4 of it; more is a solid in pieces.
+constexpr double kFragmentShareTol = 1e-3;
+
 int wrap(int i, int n) { return ((i % n) + n) % n; }
 
 }  // namespace
@@ -308,6 +311,7 @@ Scaffold build_scaffold(const Field& phi, const ScaffoldParams& p) {
       lat = sample_part(phi, size, p.cell_size, [sign](double v) { return sign * (v - 0.5); });
     }
     topology = clean_part(lat, level, p.keep_fragments);
+    check_fragment_share(topology, lat.box_volume(), kFragmentShareTol, p.units);
     out.mesh = mesh_part(lat, level);
   } else {
     out.mesh = mesh_tiled(

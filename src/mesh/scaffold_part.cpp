@@ -71,26 +71,53 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   // The porosity: the sheet's level (its half thickness) is solved by Newton then secant
   // steps on the part's own mesh; a network keeps the CMC level unless trimming moved it.
   Evaluation e = evaluate(lat, level, d.keep_fragments);
+  const PartTopology at_member_level = e.topology;
+  const double porosity_at_member_level = e.porosity;
   const double tol = d.solid == SolidKind::kSheet ? d.porosity_tol : kNetworkPorosityTol;
   int iterations = 1;  // part meshes evaluated
   if (std::abs(e.porosity - d.porosity) > tol) {
     // Sheet: a level step moves both walls by cell_size per unit, over the mesh's area.
     if (d.solid == SolidKind::kSheet) slope = e.area * d.cell_size / lat.porosity_volume();
     double next = slope > 0 ? level - (e.porosity - d.porosity) / slope : level + 1e-3;
+    // A network's level stays inside the lattice's values: beyond them the part is all solid
+    // or empty, and a secant step on a flat porosity (a field that no level thickens) got there.
+    const auto [a_lo, a_hi] = std::minmax_element(lat.a.begin(), lat.a.end());
+    const double margin = 0.01 * (double(*a_hi) - double(*a_lo));
+    double last_level = e.level, last_porosity = e.porosity;  // the secant's other point
     while (iterations < kMaxSolveIterations) {
+      if (d.solid == SolidKind::kNetwork)
+        next = std::clamp(next, double(*a_lo) + margin, double(*a_hi) - margin);
       Evaluation cur = evaluate(lat, next, d.keep_fragments);
       ++iterations;
-      const double secant = (cur.porosity - e.porosity) / (cur.level - e.level);
-      e = std::move(cur);
-      const double err = e.porosity - d.porosity;
+      const double secant = (cur.porosity - last_porosity) / (cur.level - last_level);
+      last_level = cur.level, last_porosity = cur.porosity;
+      const double err = cur.porosity - d.porosity;
+      if (std::abs(err) <= std::abs(e.porosity - d.porosity)) e = std::move(cur);  // the best
       if (std::abs(err) <= d.porosity_tol) break;
       if (!(std::abs(secant) > 0) || !std::isfinite(secant)) break;
-      next = e.level - err / secant;
+      next = last_level - err / secant;
       if (d.solid == SolidKind::kSheet) next = std::min(next, -0.5 / n);  // a wall of at least h
     }
+    // The lattice's fragment marks are the last level's: those of the best again.
+    if (e.level != last_level) e = evaluate(lat, e.level, d.keep_fragments);
   }
   const double solve_seconds = seconds_since(t0);
   const PartTopology& topo = e.topology;
+  // Fragment removal may not move the porosity off its target unseen (a member in pieces):
+  // fragments removed at the member's level or the solved one, and the target missed.
+  const bool cut_last = topo.fragments > 0;
+  const PartTopology& cut = cut_last ? topo : at_member_level;
+  if (cut.fragments_removed && cut.fragments > 0 &&
+      std::abs(e.porosity - d.porosity) > kNetworkPorosityTol)
+    throw FragmentRemovalError(fmt::format(
+        "removing {} fragments ({:.4g} {}^3 of {} solid pieces) leaves porosity {:.4f} against "
+        "the target {}, more than {:g} off, and no level brings it back ({:.4f} at the last "
+        "try), so nothing was written: the solid is not one connected lattice at this porosity "
+        "(another topology, or a skin or box that cuts it apart). Choose another --porosity or "
+        "--surface; --keep-fragments keeps every piece",
+        cut.fragments, cut.fragment_volume, d.units, cut.solid_components,
+        cut_last ? e.porosity : porosity_at_member_level, d.porosity, kNetworkPorosityTol,
+        e.porosity));
   if (!lat.clip.empty() && lat.skin.empty() && topo.closed_pores > 0)
     throw ClosedCellError(fmt::format(
         "closed-cell part: {} pores inside the shape ({:.4g} {}^3) do not reach its surface; "
@@ -131,9 +158,9 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   if (std::abs(porosity - d.porosity) > kNetworkPorosityTol) {
     if (std::abs(e.porosity - d.porosity) > kNetworkPorosityTol)
       out.warnings.push_back(fmt::format(
-          "porosity {:.4f} misses the target {} by more than 1e-3: no {} level reaches it (with "
-          "--skin, the skin alone may take that much of the volume)",
-          porosity, d.porosity, solid_kind_name(d.solid)));
+          "porosity {:.4f} misses the target {} by more than 1e-3: no {} level reaches it{}",
+          porosity, d.porosity, solid_kind_name(d.solid),
+          lat.skin.empty() ? "" : " (the --skin alone may take that much of the volume)"));
     else
       out.warnings.push_back(fmt::format(
           "porosity {:.4f} misses the target {} by more than 1e-3 after decimation ({:.4f} "
@@ -286,14 +313,28 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
       for (std::size_t id = 0; id < sdf.size(); ++id)
         lat.skin[id] = float(k * std::min(-double(sdf[id]), sdf[id] + shape->skin));
     }
+    // The shape's volume: its triangles' (exact) unless shells may overlap, which those would
+    // count twice; then the union's as the lattice cuts it (within O(h^2) at edges).
     lat.reference_volume = std::abs(ss.volume);
+    const bool overlap = shells_may_overlap(shape->mesh);
+    if (overlap) {
+      PartLattice inside;
+      inside.nodes = lat.nodes, inside.spacing = lat.spacing, inside.size = lat.size;
+      inside.origin = lat.origin, inside.a = lat.clip;
+      lat.reference_volume = mesh_volume(mesh_part(inside, 0.0));
+    }
     shape_report = {{"volume", lat.reference_volume},
+                    {"volume_triangles", std::abs(ss.volume)},
+                    {"shells_may_overlap", overlap},
                     {"bounding_box", {{"min", ss.min}, {"max", ss.max}}},
                     {"triangles", ss.triangles},
                     {"skin", shape->skin},
                     {"units", d.units},
-                    {"method", "signed distance by OpenVDB meshToLevelSet on the lattice's "
-                               "nodes; solid = lattice solid within the shape, plus the skin"}};
+                    {"method", "signed distance by OpenVDB meshToLevelSet (rebuilt: the union "
+                               "of shells that may overlap) on the lattice's nodes; solid = "
+                               "lattice solid within the shape, plus the skin; volume: "
+                               "volume_triangles (their signed sum), or the union's on the "
+                               "lattice when shells may overlap"}};
   }
   const double sample_seconds = seconds_since(t0);
 

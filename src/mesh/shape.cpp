@@ -2,13 +2,16 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +60,36 @@ TriMesh read_stl(const std::filesystem::path& path) {
   return m;
 }
 
+bool shells_may_overlap(const TriMesh& shape) {
+  // Shells: components of the vertices joined by the triangles' edges (union-find).
+  std::vector<std::uint32_t> parent(shape.vertices.size());
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  const auto root = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& t : shape.triangles)
+    for (int e = 0; e < 2; ++e) parent[root(t[e])] = root(t[e + 1]);
+  std::map<std::uint32_t, std::pair<Vec3, Vec3>> boxes;  // per shell: min, max
+  for (std::uint32_t v = 0; v < parent.size(); ++v) {
+    const Vec3& p = shape.vertices[v];
+    const auto [it, added] = boxes.emplace(root(v), std::pair{p, p});
+    for (int c = 0; c < 3; ++c) {
+      it->second.first[c] = std::min(it->second.first[c], p[c]);
+      it->second.second[c] = std::max(it->second.second[c], p[c]);
+    }
+  }
+  for (auto a = boxes.begin(); a != boxes.end(); ++a)
+    for (auto b = std::next(a); b != boxes.end(); ++b) {
+      bool overlap = true;
+      for (int c = 0; c < 3; ++c)
+        overlap = overlap && a->second.first[c] < b->second.second[c] &&
+                  b->second.first[c] < a->second.second[c];
+      if (overlap) return true;
+    }
+  return false;
+}
+
 std::vector<float> shape_distance(const TriMesh& shape, const PartLattice& lat, double band) {
   openvdb::initialize();
   // One voxel of the lattice's smallest spacing; the band in voxels.
@@ -69,8 +102,13 @@ std::vector<float> shape_distance(const TriMesh& shape, const PartLattice& lat, 
   triangles.reserve(shape.triangles.size());
   for (const auto& t : shape.triangles) triangles.emplace_back(t[0], t[1], t[2]);
   const float half_width = float(std::max(3.0, band / voxel + 2.0));
-  const openvdb::FloatGrid::Ptr grid =
+  const openvdb::FloatGrid::Ptr raw =
       openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, half_width);
+  // The union of the shells: faces of one shell inside another leave a band of small negative
+  // distances, which a rebuild (re-extracting the zero crossings) drops. It rounds edges by
+  // a fraction of a voxel, so only shells that may overlap are rebuilt.
+  const openvdb::FloatGrid::Ptr grid =
+      shells_may_overlap(shape) ? openvdb::tools::levelSetRebuild(*raw, 0.0f, half_width) : raw;
   std::vector<float> d(lat.count());
   FirstException errors;  // a sampler's accessor allocates
 #pragma omp parallel for schedule(static)

@@ -16,7 +16,12 @@ namespace cmcsurf {
 // std::runtime_error naming the file when it cannot be read or holds no triangle.
 TriMesh read_stl(const std::filesystem::path& path);
 
-// Signed distance (output units) from each node of lat to the shape, clamped to +-band.
+// Whether the bounding boxes of two of the mesh's shells (components by shared vertices)
+// overlap: the triangles' signed volumes may then count a region twice.
+bool shells_may_overlap(const TriMesh& shape);
+
+// Signed distance (output units) from each node of lat to the shape, clamped to +-band. The
+// shape is the union of its shells: overlapping closed shells count once.
 std::vector<float> shape_distance(const TriMesh& shape, const PartLattice& lat, double band);
 
 }  // namespace cmcsurf

@@ -676,6 +676,7 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
   }
   RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
+  if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   return result;
 }
 
@@ -684,6 +685,7 @@ RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
   check_resumable(params, context, RunEntry::kCmcFromField);
   RunResult result = run_cmc_stages(params, context, &phi0);
   measure_final(result, params);
+  if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   return result;
 }
 

@@ -154,6 +154,9 @@ struct RunResult {
   double volume_seconds = 0.0;  // wall time of the corrections
   Measures initial;         // phi^0 (after truncation for nodal surfaces), at epsilon
   Measures final;
+  // chi of phase 1 of step 1's field (initial's): for run_cmc the nodal start, the family's
+  // topology (pipeline/member_topology.h); set by run_cmc and run_cmc_from_field.
+  std::optional<std::int64_t> euler_characteristic_start;
   double wall_seconds = 0.0;    // the solve: steps 1-6, corrections and continuation
   double solver_seconds = 0.0;  // inside the V-cycles
   double measure_seconds = 0.0;  // the sharp measures of the final field
