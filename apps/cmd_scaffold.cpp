@@ -19,6 +19,7 @@
 #include "io/file_checksum.h"
 #include "io/file_identity.h"
 #include "io/json_file.h"
+#include "io/output_folder.h"
 #include "io/mesh_output.h"
 #include "io/run_report.h"
 #include "io/vti.h"
@@ -145,6 +146,15 @@ Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
       cache / fmt::format("{}-a{:.4f}-n{}-{:016x}", name, p.volume_fraction, p.grid,
                           parameters_hash(params.dump()));
   about = {{"cache", dir.string()}, {"parameters", params}};
+  // One writer per entry: a second scaffold of the same member waits for the first and then
+  // reuses its entry instead of computing it again (the cache is cmcsurf's own: forced).
+  FolderClaim entry;
+  try {
+    entry = claim_output_folder(dir, {.kind = "cache", .option = "--cache", .force = true,
+                                      .wait = true});
+  } catch (const FolderRefused& e) {
+    throw std::runtime_error(e.what());
+  }
   if (std::filesystem::is_regular_file(dir / "member.json") &&
       std::filesystem::is_regular_file(dir / "field.vti")) {
     // A finished entry is reused only when its field file still has the CRC-32 it was
