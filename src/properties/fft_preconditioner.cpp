@@ -39,11 +39,11 @@ struct FftPlans {
 
 FftReferencePreconditioner::FftReferencePreconditioner(int n, int dofs, double lambda0,
                                                        double mu0,
-                                                       const std::vector<std::uint8_t>* active)
-    : n_(n), dofs_(dofs), lambda0_(lambda0), mu0_(mu0), active_(active), cos_(n), sin_(n),
+                                                       const std::vector<float>* scaling)
+    : n_(n), dofs_(dofs), lambda0_(lambda0), mu0_(mu0), scaling_(scaling), cos_(n), sin_(n),
       plans_(std::make_unique<FftPlans>()) {
   CMCSURF_CHECK(n >= 2 && (dofs == 1 || dofs == 3));
-  CMCSURF_CHECK(!active || active->size() == std::size_t(n) * n * n);
+  CMCSURF_CHECK(!scaling || scaling->size() == std::size_t(n) * n * n);
   for (int m = 0; m < n; ++m) {
     cos_[m] = std::cos(2.0 * M_PI * m / n);
     sin_[m] = std::sin(2.0 * M_PI * m / n);
@@ -103,9 +103,18 @@ void FftReferencePreconditioner::solve_symbol(int kx, int ky, int kz,
 
 void FftReferencePreconditioner::apply(const double* r, double* z) const {
   const int n = n_, nh = n / 2 + 1, dofs = dofs_;
-  fftw_execute_dft_r2c(plans_->forward, const_cast<double*>(r), plans_->spectrum);
+  const std::size_t nodes = std::size_t(n) * n * n;
+  const float* d = scaling_ ? scaling_->data() : nullptr;
+  const double* in = r;
+  if (d) {  // z = D r, transformed in place of r
+#pragma omp parallel for schedule(static)
+    for (std::size_t q = 0; q < nodes; ++q)
+      for (int c = 0; c < dofs; ++c) z[dofs * q + c] = d[q] * r[dofs * q + c];
+    in = z;
+  }
+  fftw_execute_dft_r2c(plans_->forward, const_cast<double*>(in), plans_->spectrum);
   auto* spec = reinterpret_cast<std::complex<double>*>(plans_->spectrum);
-  const double scale = 1.0 / (double(n) * n * n);
+  const double scale = 1.0 / double(nodes);
 #pragma omp parallel for schedule(static)
   for (int kz = 0; kz < n; ++kz)
     for (int ky = 0; ky < n; ++ky)
@@ -115,13 +124,10 @@ void FftReferencePreconditioner::apply(const double* r, double* z) const {
         for (int c = 0; c < dofs; ++c) v[c] *= scale;
       }
   fftw_execute_dft_c2r(plans_->backward, plans_->spectrum, z);
-  if (active_) {
-    const std::uint8_t* act = active_->data();
-    const std::size_t nodes = std::size_t(n) * n * n;
+  if (d) {
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < nodes; ++q)
-      if (!act[q])
-        for (int c = 0; c < dofs; ++c) z[dofs * q + c] = 0.0;
+      for (int c = 0; c < dofs; ++c) z[dofs * q + c] *= d[q];
   }
 }
 
@@ -129,7 +135,8 @@ void FftReferencePreconditioner::apply_ref(const double* r, double* z) const {
   const int n = n_, dofs = dofs_;
   const std::size_t nodes = std::size_t(n) * n * n;
   std::vector<std::complex<double>> a(nodes * dofs), b(nodes * dofs);
-  for (std::size_t q = 0; q < nodes * dofs; ++q) a[q] = r[q];
+  auto weight = [&](std::size_t q) { return scaling_ ? double((*scaling_)[q]) : 1.0; };
+  for (std::size_t q = 0; q < nodes * dofs; ++q) a[q] = weight(q / dofs) * r[q];
   // One direct DFT along axis `axis` (stride of that axis in nodes), sign -1 forward.
   auto dft = [&](int axis, double sign) {
     const std::size_t stride = axis == 0 ? 1 : axis == 1 ? std::size_t(n) : std::size_t(n) * n;
@@ -152,7 +159,7 @@ void FftReferencePreconditioner::apply_ref(const double* r, double* z) const {
   for (int axis = 0; axis < 3; ++axis) dft(axis, 1.0);
   for (std::size_t q = 0; q < nodes; ++q)
     for (int c = 0; c < dofs; ++c)
-      z[dofs * q + c] = (active_ && !(*active_)[q]) ? 0.0 : a[dofs * q + c].real() / nodes;
+      z[dofs * q + c] = weight(q) * a[dofs * q + c].real() / double(nodes);
 }
 
 }  // namespace cmcsurf::properties

@@ -6,8 +6,11 @@
 //   P_dd = S_d M_e M_f,   P_de = sin t_d sin t_e M_f   (d != e; {d, e, f} = {x, y, z}),
 // conductivity: K(theta) = tr P; elasticity: K(theta) = (lambda0 + mu0) P + mu0 tr P I (3x3).
 // The zero wavevector (the mean, which a periodic fluctuation does not have) maps to 0.
-// Inactive nodes (VoxelOperator::active_nodes) are zeroed on output, so the preconditioned
-// iteration stays on the active nodes (the reduced system).
+// With a node scaling d (VoxelOperator::node_scaling: d_n = (sum of s over node n's voxels /
+// 8)^-1/2, the homogeneous stencil's diagonal over the composite one's, to the power 1/2)
+// the preconditioner is D M^-1 D: symmetric, 0 on inactive nodes (d_n = 0), so the iteration
+// stays on the reduced system; the scaling removes the contrast of nearly void rim voxels
+// (without it the iterations grow with n: more rim voxels with tiny s).
 #pragma once
 
 #include <complex>
@@ -22,9 +25,9 @@ struct FftPlans;  // FFTW plans and the spectral buffer
 class FftReferencePreconditioner {
  public:
   // dofs = 1 (conductivity, k0 = 1) or 3 (elasticity with Lame constants lambda0, mu0).
-  // active: one flag per node, kept by reference (null: every node active).
+  // scaling: d per node, kept by reference (null: identity).
   FftReferencePreconditioner(int n, int dofs, double lambda0, double mu0,
-                             const std::vector<std::uint8_t>* active);
+                             const std::vector<float>* scaling);
   ~FftReferencePreconditioner();
   FftReferencePreconditioner(const FftReferencePreconditioner&) = delete;
   FftReferencePreconditioner& operator=(const FftReferencePreconditioner&) = delete;
@@ -43,7 +46,7 @@ class FftReferencePreconditioner {
 
   int n_, dofs_;
   double lambda0_, mu0_;
-  const std::vector<std::uint8_t>* active_;
+  const std::vector<float>* scaling_;
   std::vector<double> cos_, sin_;
   std::unique_ptr<FftPlans> plans_;
 };

@@ -74,6 +74,14 @@ typename VoxelOperator<D>::ElementVector macro_element_force(
   return f;
 }
 
+template <int D>
+std::vector<float> preconditioner_scaling(const VoxelOperator<D>& op, const SolverOptions& o) {
+  std::vector<float> d = op.node_scaling();
+  if (!o.diagonal_scaling)
+    for (float& v : d) v = v > 0.0f ? 1.0f : 0.0f;
+  return d;
+}
+
 }  // namespace
 
 ElasticHomogenization homogenize_elasticity(int n, const std::vector<double>& s, double nu,
@@ -86,9 +94,10 @@ ElasticHomogenization homogenize_elasticity(int n, const std::vector<double>& s,
   ElasticHomogenization res;
   VoxelOperator<3> op(n, s, elasticity_element(nu));
   const Lame l = lame_of(nu);
-  FftReferencePreconditioner pre(n, 3, l.lambda, l.mu, &op.active_nodes());
+  const std::vector<float> scaling = preconditioner_scaling(op, o);
+  FftReferencePreconditioner pre(n, 3, l.lambda, l.mu, &scaling);
   Workspace w(op.size());
-  res.bytes = w.bytes() + pre.bytes() + op.active_nodes().size();
+  res.bytes = w.bytes() + pre.bytes() + op.active_nodes().size() + 4 * scaling.size();
   const Matrix6 cs = isotropic_stiffness(nu);
   const double mean_s = op.mean_solid_fraction();
   const CgOptions cg = cg_options(o, op.nodes());
@@ -123,9 +132,10 @@ ConductivityHomogenization homogenize_conductivity(int n, const std::vector<doub
   const auto t0 = WallClock::now();
   ConductivityHomogenization res;
   VoxelOperator<1> op(n, s, conductivity_element());
-  FftReferencePreconditioner pre(n, 1, 0.0, 0.0, &op.active_nodes());
+  const std::vector<float> scaling = preconditioner_scaling(op, o);
+  FftReferencePreconditioner pre(n, 1, 0.0, 0.0, &scaling);
   Workspace w(op.size());
-  res.bytes = w.bytes() + pre.bytes() + op.active_nodes().size();
+  res.bytes = w.bytes() + pre.bytes() + op.active_nodes().size() + 4 * scaling.size();
   const double mean_s = op.mean_solid_fraction();
   const CgOptions cg = cg_options(o, op.nodes());
   Matrix3 k{};

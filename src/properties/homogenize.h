@@ -19,6 +19,9 @@ namespace cmcsurf::properties {
 struct SolverOptions {
   double tolerance = 1e-5;  // CG: relative preconditioned residual (pcg.h)
   int max_iterations = 1000;  // per load case; beyond it the case is reported not converged
+  // Preconditioner D M^-1 D with D the nodes' diagonal scaling (fft_preconditioner.h); false:
+  // the plain reference-medium inverse on the active nodes (for comparison).
+  bool diagonal_scaling = true;
 };
 
 struct LoadCaseStats {

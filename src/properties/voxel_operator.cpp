@@ -1,6 +1,7 @@
 #include "properties/voxel_operator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "grid/check.h"
@@ -64,6 +65,23 @@ VoxelOperator<D>::VoxelOperator(int n, const std::vector<double>& s, const Eleme
         voxel_nodes(n, i, j, k, nd);
         for (std::size_t a : nd) active_[a] = 1;
       }
+}
+
+template <int D>
+std::vector<float> VoxelOperator<D>::node_scaling() const {
+  const int n = n_;
+  std::vector<float> d(nodes(), 0.0f);
+  std::vector<double> w(nodes(), 0.0);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        std::size_t nd[8];
+        voxel_nodes(n, i, j, k, nd);
+        for (std::size_t a : nd) w[a] += (*s_)[nd[0]] / 8.0;
+      }
+  for (std::size_t q = 0; q < d.size(); ++q)
+    if (active_[q]) d[q] = float(1.0 / std::sqrt(w[q]));
+  return d;
 }
 
 template <int D>

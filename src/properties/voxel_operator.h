@@ -6,8 +6,8 @@
 //
 // Composite voxels: each voxel's stiffness is s_e times the solid's (the Voigt mixing of
 // solid and void inside a voxel). Void voxels (s_e = 0) add nothing; a node that touches no
-// solid voxel is inactive (its row and column of K are zero; active_nodes() lists the others
-// for the preconditioner, which keeps the iterates zero there).
+// solid voxel is inactive (its row and column of K are zero; node_scaling() is 0 there, so the
+// preconditioner keeps the iterates zero there: the reduced system on the active nodes).
 #pragma once
 
 #include <array>
@@ -38,6 +38,9 @@ class VoxelOperator {
   const ElementMatrix& element_matrix() const { return ke_; }
   // 1 for a node that touches a voxel with s > 0, else 0.
   const std::vector<std::uint8_t>& active_nodes() const { return active_; }
+  // Per node (sum of s over its 8 voxels / 8)^-1/2, 0 on inactive nodes: the square root of
+  // the homogeneous solid's diagonal over this one's (for the preconditioner).
+  std::vector<float> node_scaling() const;
 
   // y = K x (x and y of size(), not aliased). Skips void voxels; OpenMP over z layers of
   // voxels in two colours (layers of one colour share no node).

@@ -87,13 +87,21 @@ TEST(VoxelOperator, NodesTouchingNoSolidAreInactive) {
   int active = 0;
   for (auto a : op.active_nodes()) active += a;
   EXPECT_EQ(active, 8);
+  int scaled = 0;
+  for (float d : op.node_scaling()) {
+    if (d == 0.0f) continue;
+    ++scaled;
+    EXPECT_FLOAT_EQ(d, float(1.0 / std::sqrt(0.5 / 8.0)));
+  }
+  EXPECT_EQ(scaled, 8);
 }
 
 template <int D>
 void expect_preconditioner_matches_reference(int n) {
   const auto s = random_solid(n, 3);
-  VoxelOperator<D> op(n, s, typename VoxelOperator<D>::ElementMatrix{});  // for the mask
-  FftReferencePreconditioner pre(n, D, 0.6, 0.4, &op.active_nodes());
+  VoxelOperator<D> op(n, s, typename VoxelOperator<D>::ElementMatrix{});  // for the scaling
+  const std::vector<float> scaling = op.node_scaling();
+  FftReferencePreconditioner pre(n, D, 0.6, 0.4, &scaling);
   const Vec r = random_vec(op.size(), 5);
   Vec z(op.size()), z_ref(op.size());
   pre.apply(r.data(), z.data());
@@ -121,7 +129,8 @@ void expect_inverts_homogeneous_stencil(int n, double nu) {
   else
     ke = elasticity_element(nu);
   VoxelOperator<D> op(n, s, ke);
-  FftReferencePreconditioner pre(n, D, l.lambda, l.mu, &op.active_nodes());
+  const std::vector<float> scaling = op.node_scaling();  // 1 on a solid cell
+  FftReferencePreconditioner pre(n, D, l.lambda, l.mu, &scaling);
   Vec x = random_vec(op.size(), 9);
   for (int c = 0; c < D; ++c) {  // remove the mean (the stencil's kernel)
     double mean = 0.0;
