@@ -23,7 +23,8 @@ double shape_gradient(int a, int d, const Vector3& xi) {
 template <class F>
 void for_each_gauss_point(F f) {
   const double lo = 0.5 - 0.5 / std::sqrt(3.0), hi = 0.5 + 0.5 / std::sqrt(3.0);
-  for (int q = 0; q < 8; ++q) f(Vector3{q & 1 ? hi : lo, q >> 1 & 1 ? hi : lo, q >> 2 & 1 ? hi : lo});
+  for (int q = 0; q < 8; ++q)
+    f(Vector3{q & 1 ? hi : lo, q >> 1 & 1 ? hi : lo, q >> 2 & 1 ? hi : lo});
 }
 
 }  // namespace
