@@ -157,7 +157,8 @@ HashinShtrikman hashin_shtrikman_upper(double f, double nu) {
   return b;
 }
 
-std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s) {
+std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s, double void_below) {
+  auto solid = [&](std::size_t e) { return s[e] > 0.0 && s[e] >= void_below; };
   const std::size_t cells = std::size_t(n) * n * n;
   std::vector<int> seen(cells, -1);                // component id
   std::vector<std::array<int, 3>> pos(cells);      // unwrapped position in the component
@@ -165,7 +166,7 @@ std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s) {
   std::vector<std::size_t> queue;
   int comp = 0;
   for (std::size_t start = 0; start < cells; ++start) {
-    if (s[start] <= 0.0 || seen[start] >= 0) continue;
+    if (!solid(start) || seen[start] >= 0) continue;
     seen[start] = comp;
     pos[start] = {int(start % n), int(start / n % n), int(start / n / n)};
     queue.assign(1, start);
@@ -179,7 +180,7 @@ std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s) {
             const std::array<int, 3> u{p[0] + dx, p[1] + dy, p[2] + dz};
             const std::size_t f = (std::size_t((u[2] % n + n) % n) * n + (u[1] % n + n) % n) * n +
                                   (u[0] % n + n) % n;
-            if (s[f] <= 0.0) continue;
+            if (!solid(f)) continue;
             if (seen[f] < 0) {
               seen[f] = comp;
               pos[f] = u;
@@ -209,7 +210,7 @@ CellProperties compute_cell_properties(int n, const std::vector<double>& s,
   p.porosity = 1.0 - p.relative_density;
   p.bound_solid = hashin_shtrikman_upper(p.relative_density, o.poisson_ratio);
   p.bound_conductivity_pore = hashin_shtrikman_upper(p.porosity, o.poisson_ratio).conductivity;
-  p.solid_percolates = percolating_axes(n, s);
+  p.solid_percolates = percolating_axes(n, s, o.solver.void_below);
   append_axes_warning(p.warnings, p.solid_percolates, "solid");
   if (o.elasticity) {
     p.elastic = homogenize_elasticity(n, s, o.poisson_ratio, o.solver);
@@ -228,7 +229,7 @@ CellProperties compute_cell_properties(int n, const std::vector<double>& s,
                                "solid conduction");
     std::vector<double> pore(s.size());
     for (std::size_t e = 0; e < s.size(); ++e) pore[e] = 1.0 - s[e];
-    p.pore_percolates = percolating_axes(n, pore);
+    p.pore_percolates = percolating_axes(n, pore, o.solver.void_below);
     append_axes_warning(p.warnings, p.pore_percolates, "pore space");
     p.pore_conduction = homogenize_conductivity(n, pore, o.solver);
     const Matrix3& kp = p.pore_conduction.conductivity;

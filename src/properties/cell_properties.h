@@ -40,9 +40,10 @@ struct HashinShtrikman {
 };
 HashinShtrikman hashin_shtrikman_upper(double solid_fraction, double poisson_ratio);
 
-// Axes x, y, z along which a cluster of voxels with s > 0 (26-connected: voxels sharing a node
-// are coupled by the elements) wraps around the periodic cell.
-std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s);
+// Axes x, y, z along which a cluster of voxels with s > 0 and s >= void_below (26-connected:
+// voxels sharing a node are coupled by the elements) wraps around the periodic cell.
+std::array<bool, 3> percolating_axes(int n, const std::vector<double>& s,
+                                     double void_below = 0.0);
 
 struct CellPropertiesOptions {
   double poisson_ratio = 0.3;  // of the solid

@@ -92,7 +92,8 @@ ElasticHomogenization homogenize_elasticity(int n, const std::vector<double>& s,
                                 std::to_string(nu));
   const auto t0 = WallClock::now();
   ElasticHomogenization res;
-  VoxelOperator<3> op(n, s, elasticity_element(nu));
+  VoxelOperator<3> op(n, s, elasticity_element(nu), o.void_below);
+  res.removed_solid_fraction = op.removed_solid_fraction();
   const Lame l = lame_of(nu);
   const std::vector<float> scaling = preconditioner_scaling(op, o);
   FftReferencePreconditioner pre(n, 3, l.lambda, l.mu, &scaling);
@@ -131,7 +132,8 @@ ConductivityHomogenization homogenize_conductivity(int n, const std::vector<doub
   check_input(n, s);
   const auto t0 = WallClock::now();
   ConductivityHomogenization res;
-  VoxelOperator<1> op(n, s, conductivity_element());
+  VoxelOperator<1> op(n, s, conductivity_element(), o.void_below);
+  res.removed_solid_fraction = op.removed_solid_fraction();
   const std::vector<float> scaling = preconditioner_scaling(op, o);
   FftReferencePreconditioner pre(n, 1, 0.0, 0.0, &scaling);
   Workspace w(op.size());

@@ -19,9 +19,14 @@ namespace cmcsurf::properties {
 struct SolverOptions {
   double tolerance = 1e-5;  // CG: relative preconditioned residual (pcg.h)
   int max_iterations = 1000;  // per load case; beyond it the case is reported not converged
-  // Preconditioner D M^-1 D with D the nodes' diagonal scaling (fft_preconditioner.h); false:
-  // the plain reference-medium inverse on the active nodes (for comparison).
-  bool diagonal_scaling = true;
+  // Composite voxels with s below this count as void: they alone (contrast 1/s unbounded)
+  // make the iterations grow with n. 0.02 changes the gyroids' tensors by 1e-4 relative at
+  // 64^3 (docs/properties.md); the solid fraction removed is returned.
+  double void_below = 0.02;
+  // Preconditioner D M^-1 D with D the nodes' diagonal scaling (fft_preconditioner.h): fewer
+  // iterations on small grids without void_below, but they grow with n; false: the plain
+  // reference-medium inverse on the active nodes.
+  bool diagonal_scaling = false;
 };
 
 struct LoadCaseStats {
@@ -34,6 +39,7 @@ struct LoadCaseStats {
 struct ElasticHomogenization {
   Matrix6 stiffness_voigt{};  // symmetrised (C + C^T) / 2, normalised by E_s
   double asymmetry = 0.0;     // max |C_ij - C_ji| / max |C_ij| before symmetrising
+  double removed_solid_fraction = 0.0;  // by SolverOptions::void_below, of the cell's volume
   std::array<LoadCaseStats, 6> load_cases{};
   bool converged = false;  // every load case
   double seconds = 0.0;
@@ -43,6 +49,7 @@ struct ElasticHomogenization {
 struct ConductivityHomogenization {
   Matrix3 conductivity{};  // symmetrised, normalised by k_s
   double asymmetry = 0.0;
+  double removed_solid_fraction = 0.0;
   std::array<LoadCaseStats, 3> load_cases{};
   bool converged = false;
   double seconds = 0.0;

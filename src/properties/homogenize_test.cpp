@@ -24,9 +24,11 @@ std::vector<double> voxels(int n, F f) {
   return s;
 }
 
+// Exact comparisons: every composite voxel kept.
 SolverOptions tight() {
   SolverOptions o;
   o.tolerance = 1e-11;
+  o.void_below = 0.0;
   return o;
 }
 
@@ -155,27 +157,29 @@ TEST(Homogenize, StraightChannelConductsItsAreaFraction) {
   EXPECT_LT(errors[2], 0.1 * errors[0]);
 }
 
-// Iterations grow slowly with n: CG without a preconditioner needs 2x per doubling of n
-// (condition number ~ n^2); measured here 17 -> 26 (docs/properties.md: ~1.6x per doubling
-// on gyroids up to 128^3). The diagonal scaling saves most of the plain reference inverse's.
-TEST(Homogenize, IterationCountGrowsSlowlyWithN) {
+// Iterations do not grow with n once nearly void voxels (s < void_below) count as void; with
+// them kept, the contrast 1/s of rim voxels makes the count grow (docs/properties.md). The
+// tensors move by less than 1e-3 relative (1e-4 at 64^3).
+TEST(Homogenize, IterationCountBoundedInN) {
   int iterations[2] = {};
   for (int level = 0; level < 2; ++level) {
     const int n = 16 << level;
-    const auto s = nodal_gyroid_solid_fraction(n, GyroidSolid::network, 0.7);
+    const auto s = nodal_gyroid_solid_fraction(n, GyroidSolid::sheet, 0.7);
     const auto k = homogenize_conductivity(n, s);
     const auto e = homogenize_elasticity(n, s, 0.3);
     EXPECT_TRUE(k.converged && e.converged);
-    iterations[level] = std::max(k.load_cases[0].iterations, e.load_cases[0].iterations);
+    EXPECT_LT(k.removed_solid_fraction, 1e-3);
+    iterations[level] = std::max(k.load_cases[0].iterations, e.load_cases[3].iterations);
     if (level == 1) {
-      SolverOptions plain;
-      plain.diagonal_scaling = false;
-      const auto kp = homogenize_conductivity(n, s, plain);
-      EXPECT_GT(kp.load_cases[0].iterations, 3 * k.load_cases[0].iterations);
-      EXPECT_NEAR(kp.conductivity[0][0], k.conductivity[0][0], 1e-6 * k.conductivity[0][0]);
+      EXPECT_GT(k.removed_solid_fraction, 0.0);
+      SolverOptions all;
+      all.void_below = 0.0;
+      const auto ka = homogenize_conductivity(n, s, all);
+      EXPECT_NEAR(ka.conductivity[0][0], k.conductivity[0][0], 1e-3 * k.conductivity[0][0]);
+      EXPECT_GT(ka.load_cases[0].iterations, iterations[level]);
     }
   }
-  EXPECT_LE(iterations[1], 1.6 * iterations[0]) << iterations[0] << " -> " << iterations[1];
+  EXPECT_LE(iterations[1], 1.25 * iterations[0]) << iterations[0] << " -> " << iterations[1];
 }
 
 // A solid that does not wrap along x (slabs normal to x) or at all (an island): zero

@@ -28,15 +28,18 @@ inline void voxel_nodes(int n, int i, int j, int k, std::size_t nodes[8]) {
 // f(voxel index, s_e, nodes) for every voxel with s_e != 0; layers of voxels in two colours
 // (even, odd) run in parallel, so voxels of one pass share no node; an odd n's last layer,
 // which touches layer 0's nodes, runs in a third pass.
+// A voxel is solid when s > 0 and s >= void_below.
+inline bool is_solid(double s, double void_below) { return s > 0.0 && s >= void_below; }
+
 template <class F>
-void for_each_solid_voxel_coloured(int n, const double* s, F f) {
+void for_each_solid_voxel_coloured(int n, const double* s, double void_below, F f) {
   const int paired = n - (n & 1);
   auto layer = [&](int k) {
     std::size_t nodes[8];
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const std::size_t e = std::size_t(n) * (std::size_t(n) * k + j) + i;
-        if (s[e] == 0.0) continue;
+        if (!is_solid(s[e], void_below)) continue;
         voxel_nodes(n, i, j, k, nodes);
         f(e, s[e], nodes);
       }
@@ -51,8 +54,9 @@ void for_each_solid_voxel_coloured(int n, const double* s, F f) {
 }  // namespace
 
 template <int D>
-VoxelOperator<D>::VoxelOperator(int n, const std::vector<double>& s, const ElementMatrix& ke)
-    : n_(n), s_(&s), ke_(ke), active_(std::size_t(n) * n * n, 0) {
+VoxelOperator<D>::VoxelOperator(int n, const std::vector<double>& s, const ElementMatrix& ke,
+                                double void_below)
+    : n_(n), s_(&s), void_below_(void_below), ke_(ke), active_(std::size_t(n) * n * n, 0) {
   CMCSURF_CHECK(n >= 2 && s.size() == nodes());
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
@@ -60,7 +64,7 @@ VoxelOperator<D>::VoxelOperator(int n, const std::vector<double>& s, const Eleme
         const std::size_t e = std::size_t(n) * (std::size_t(n) * k + j) + i;
         if (!(s[e] >= 0.0 && s[e] <= 1.0))
           throw std::invalid_argument("solid fraction must lie in [0, 1]");
-        if (s[e] == 0.0) continue;
+        if (!is_solid(s[e], void_below)) continue;
         std::size_t nd[8];
         voxel_nodes(n, i, j, k, nd);
         for (std::size_t a : nd) active_[a] = 1;
@@ -77,7 +81,9 @@ std::vector<float> VoxelOperator<D>::node_scaling() const {
       for (int i = 0; i < n; ++i) {
         std::size_t nd[8];
         voxel_nodes(n, i, j, k, nd);
-        for (std::size_t a : nd) w[a] += (*s_)[nd[0]] / 8.0;
+        const double se = (*s_)[nd[0]];
+        if (is_solid(se, void_below_))
+          for (std::size_t a : nd) w[a] += se / 8.0;
       }
   for (std::size_t q = 0; q < d.size(); ++q)
     if (active_[q]) d[q] = float(1.0 / std::sqrt(w[q]));
@@ -90,7 +96,7 @@ void VoxelOperator<D>::apply(const double* x, double* y) const {
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < m; ++q) y[q] = 0.0;
   const ElementMatrix& ke = ke_;
-  for_each_solid_voxel_coloured(n_, s_->data(), [&](std::size_t, double se,
+  for_each_solid_voxel_coloured(n_, s_->data(), void_below_, [&](std::size_t, double se,
                                                     const std::size_t* nodes) {
     alignas(64) double xe[kElementDofs], ye[kElementDofs];
     for (int a = 0; a < 8; ++a)
@@ -115,7 +121,8 @@ void VoxelOperator<D>::apply_ref(const double* x, double* y) const {
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const double se = (*s_)[node(i, j, k)];
+        const double sv = (*s_)[node(i, j, k)];
+        const double se = sv > 0.0 && sv >= void_below_ ? sv : 0.0;
         for (int a = 0; a < 8; ++a)
           for (int ca = 0; ca < D; ++ca) {
             double sum = 0.0;
@@ -130,7 +137,7 @@ void VoxelOperator<D>::apply_ref(const double* x, double* y) const {
 
 template <int D>
 void VoxelOperator<D>::add_element_vector(const ElementVector& fe, double scale, double* b) const {
-  for_each_solid_voxel_coloured(n_, s_->data(), [&](std::size_t, double se,
+  for_each_solid_voxel_coloured(n_, s_->data(), void_below_, [&](std::size_t, double se,
                                                     const std::size_t* nodes) {
     for (int a = 0; a < 8; ++a)
       for (int c = 0; c < D; ++c) b[D * nodes[a] + c] += scale * se * fe[D * a + c];
@@ -149,7 +156,7 @@ std::array<std::array<double, 3>, D> VoxelOperator<D>::weighted_mean_gradient(
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const std::size_t e = std::size_t(n) * (std::size_t(n) * k + j) + i;
-        if (s[e] == 0.0) continue;
+        if (!is_solid(s[e], void_below_)) continue;
         voxel_nodes(n, i, j, k, nodes);
         for (int a = 0; a < 8; ++a)
           for (int c = 0; c < D; ++c) {
@@ -169,9 +176,17 @@ double VoxelOperator<D>::mean_solid_fraction() const {
   double sum = 0.0;
   const double* s = s_->data();
   const std::size_t m = nodes();
+  const double cut = void_below_;
 #pragma omp parallel for schedule(static) reduction(+ : sum)
-  for (std::size_t e = 0; e < m; ++e) sum += s[e];
+  for (std::size_t e = 0; e < m; ++e) sum += is_solid(s[e], cut) ? s[e] : 0.0;
   return sum / double(m);
+}
+
+template <int D>
+double VoxelOperator<D>::removed_solid_fraction() const {
+  double sum = 0.0;
+  for (double v : *s_) sum += is_solid(v, void_below_) ? 0.0 : v;
+  return sum / double(nodes());
 }
 
 template class VoxelOperator<1>;

@@ -30,7 +30,9 @@ class VoxelOperator {
   using ElementVector = std::array<double, kElementDofs>;
 
   // solid_fraction: n^3 values in [0, 1], kept by reference (it must outlive the operator).
-  VoxelOperator(int n, const std::vector<double>& solid_fraction, const ElementMatrix& ke);
+  // Voxels with s < void_below count as void (s = 0) everywhere below.
+  VoxelOperator(int n, const std::vector<double>& solid_fraction, const ElementMatrix& ke,
+                double void_below = 0.0);
 
   int n() const { return n_; }
   std::size_t nodes() const { return std::size_t(n_) * n_ * n_; }
@@ -53,12 +55,14 @@ class VoxelOperator {
 
   // sum_e s_e (mean over voxel e of grad x) / n^3: component c, direction d at [c][d].
   std::array<std::array<double, 3>, D> weighted_mean_gradient(const double* x) const;
-  // sum_e s_e / n^3.
+  // sum_e s_e / n^3 (after void_below), and the solid fraction void_below removed.
   double mean_solid_fraction() const;
+  double removed_solid_fraction() const;
 
  private:
   int n_;
   const std::vector<double>* s_;
+  double void_below_;
   ElementMatrix ke_;
   std::vector<std::uint8_t> active_;
 };

@@ -36,9 +36,10 @@ double max_abs(const Vec& a) {
 }
 
 template <int D>
-void expect_apply_matches_reference(int n, const typename VoxelOperator<D>::ElementMatrix& ke) {
+void expect_apply_matches_reference(int n, const typename VoxelOperator<D>::ElementMatrix& ke,
+                                    double void_below) {
   const auto s = random_solid(n, 7 + n);
-  VoxelOperator<D> op(n, s, ke);
+  VoxelOperator<D> op(n, s, ke, void_below);
   const Vec x = random_vec(op.size(), 11);
   Vec y(op.size()), y_ref(op.size());
   op.apply(x.data(), y.data());
@@ -50,10 +51,11 @@ void expect_apply_matches_reference(int n, const typename VoxelOperator<D>::Elem
 
 // Even n (two colours) and odd n (the third pass for the last layer).
 TEST(VoxelOperator, ApplyMatchesReference) {
-  for (int n : {6, 7}) {
-    expect_apply_matches_reference<1>(n, conductivity_element());
-    expect_apply_matches_reference<3>(n, elasticity_element(0.3));
-  }
+  for (int n : {6, 7})
+    for (double void_below : {0.0, 0.3}) {
+      expect_apply_matches_reference<1>(n, conductivity_element(), void_below);
+      expect_apply_matches_reference<3>(n, elasticity_element(0.3), void_below);
+    }
 }
 
 // Element matrices: symmetric, and rigid translations (and, for elasticity, the affine
