@@ -6,11 +6,12 @@
 //   P_dd = S_d M_e M_f,   P_de = sin t_d sin t_e M_f   (d != e; {d, e, f} = {x, y, z}),
 // conductivity: K(theta) = tr P; elasticity: K(theta) = (lambda0 + mu0) P + mu0 tr P I (3x3).
 // The zero wavevector (the mean, which a periodic fluctuation does not have) maps to 0.
-// With a node scaling d (VoxelOperator::node_scaling: d_n = (sum of s over node n's voxels /
-// 8)^-1/2, the homogeneous stencil's diagonal over the composite one's, to the power 1/2)
-// the preconditioner is D M^-1 D: symmetric, 0 on inactive nodes (d_n = 0), so the iteration
-// stays on the reduced system; the scaling removes the contrast of nearly void rim voxels
-// (without it the iterations grow with n: more rim voxels with tiny s).
+// With a node scaling d the preconditioner is D M^-1 D: symmetric, 0 where d_n = 0 (inactive
+// nodes), so the iteration stays on the reduced system. d = 1 on the active nodes is the
+// plain restricted inverse (the default); VoxelOperator::node_scaling, d_n = (sum of s over
+// node n's voxels / 8)^-1/2, the square root of the homogeneous diagonal over the composite
+// one, needs fewer iterations on small grids when nearly void voxels are kept
+// (docs/properties.md compares both).
 #pragma once
 
 #include <complex>
