@@ -1,0 +1,117 @@
+// Google Benchmark kernels of the properties solvers (docs/properties.md): the voxel stencil,
+// the FFT preconditioner and a full homogenisation, on the nodal gyroid network at porosity 0.7.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <random>
+
+#include "properties/fft_preconditioner.h"
+#include "properties/homogenize.h"
+#include "properties/solid_fraction.h"
+#include "properties/voxel_element.h"
+#include "properties/voxel_operator.h"
+
+namespace cmcsurf::properties {
+namespace {
+
+std::vector<double> gyroid(int n) {
+  return nodal_gyroid_solid_fraction(n, GyroidSolid::network, 0.7);
+}  // porosity 0.7
+
+Vec random_vec(std::size_t m) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vec v(m);
+  for (double& x : v) x = u(rng);
+  return v;
+}
+
+// y = K x; counts cells (voxels) per second.
+template <int D>
+void BM_VoxelStencil(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  typename VoxelOperator<D>::ElementMatrix ke;
+  if constexpr (D == 1)
+    ke = conductivity_element();
+  else
+    ke = elasticity_element(0.3);
+  VoxelOperator<D> op(n, s, ke);
+  const Vec x = random_vec(op.size());
+  Vec y(op.size());
+  for (auto _ : state) {
+    op.apply(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.nodes()));
+}
+BENCHMARK(BM_VoxelStencil<1>)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VoxelStencil<3>)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// z = D M^-1 D r (forward and backward FFT of D dofs per node).
+template <int D>
+void BM_FftPreconditioner(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  VoxelOperator<D> op(n, s, typename VoxelOperator<D>::ElementMatrix{});
+  const std::vector<float> scaling = op.node_scaling();
+  const Lame l = lame_of(0.3);
+  FftReferencePreconditioner pre(n, D, l.lambda, l.mu, &scaling);
+  const Vec r = random_vec(op.size());
+  Vec z(op.size());
+  for (auto _ : state) {
+    pre.apply(r.data(), z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.nodes()));
+}
+BENCHMARK(BM_FftPreconditioner<1>)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FftPreconditioner<3>)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// All six elastic load cases on the gyroid network (kind 0) or sheet (kind 1); counters: the
+// largest CG iteration count of a case, C11, C12, C44 (docs/properties.md's tables; 128^3
+// takes minutes: --benchmark_filter='Homogenize.*/128').
+void BM_HomogenizeElasticity(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = nodal_gyroid_solid_fraction(
+      n, state.range(1) ? GyroidSolid::sheet : GyroidSolid::network, 0.7);
+  ElasticHomogenization r;
+  for (auto _ : state) {
+    r = homogenize_elasticity(n, s, 0.3);
+    benchmark::DoNotOptimize(r.stiffness_voigt.data());
+  }
+  int most = 0;
+  for (const auto& c : r.load_cases) most = std::max(most, c.iterations);
+  state.counters["cg_iterations"] = most;
+  state.counters["C11"] = r.stiffness_voigt[0][0];
+  state.counters["C12"] = r.stiffness_voigt[0][1];
+  state.counters["C44"] = r.stiffness_voigt[3][3];
+  state.counters["bytes_per_cell"] = double(r.bytes) / (double(n) * n * n);
+}
+BENCHMARK(BM_HomogenizeElasticity)
+    ->ArgsProduct({{32, 64, 128}, {0, 1}})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+// The three conduction load cases of the solid (kind 0 network, 1 sheet).
+void BM_HomogenizeConductivity(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = nodal_gyroid_solid_fraction(
+      n, state.range(1) ? GyroidSolid::sheet : GyroidSolid::network, 0.7);
+  ConductivityHomogenization r;
+  for (auto _ : state) {
+    r = homogenize_conductivity(n, s);
+    benchmark::DoNotOptimize(r.conductivity.data());
+  }
+  int most = 0;
+  for (const auto& c : r.load_cases) most = std::max(most, c.iterations);
+  state.counters["cg_iterations"] = most;
+  state.counters["k11"] = r.conductivity[0][0];
+}
+BENCHMARK(BM_HomogenizeConductivity)
+    ->ArgsProduct({{32, 64, 128}, {0, 1}})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace cmcsurf::properties
