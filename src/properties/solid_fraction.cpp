@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "grid/kuhn.h"
 #include "measure/sharp_volume.h"
 
 namespace cmcsurf::properties {
@@ -13,22 +12,17 @@ namespace cmcsurf::properties {
 std::vector<double> solid_fraction_from_phi(const Field& phi, double level) {
   if (!phi.whole() || phi.ghost() < 1)
     throw std::invalid_argument("solid_fraction_from_phi: needs a whole grid with ghosts");
-  const int n = phi.n();
+  Field fraction(phi.n(), 0);
+  dual_cell_fractions(phi, level, fraction);  // measure/sharp_volume.h: the cubes one by one
+  return voxel_values(fraction);
+}
+
+std::vector<double> voxel_values(const Field& fraction) {
+  const int n = fraction.n();
   std::vector<double> s(std::size_t(n) * n * n);
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        double v[8];
-        for (int c = 0; c < 8; ++c)
-          v[c] = phi(i + kCubeCorner[c][0], j + kCubeCorner[c][1], k + kCubeCorner[c][2]) - level;
-        double sum = 0.0;
-        for (const auto& t : kKuhnTets) {
-          const double g[4] = {v[t[0]], v[t[1]], v[t[2]], v[t[3]]};
-          sum += tet_fraction_above(g);
-        }
-        s[(std::size_t(k) * n + j) * n + i] = std::clamp(sum / 6.0, 0.0, 1.0);
-      }
+  for_each_cell(fraction, [&](int i, int j, int k) {
+    s[(std::size_t(k) * n + j) * n + i] = std::clamp(fraction(i, j, k), 0.0, 1.0);
+  });
   return s;
 }
 

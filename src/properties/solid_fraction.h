@@ -15,6 +15,10 @@ namespace cmcsurf::properties {
 // phi: a whole grid (not a block) with a current halo.
 std::vector<double> solid_fraction_from_phi(const Field& phi, double level = 0.5);
 
+// The solvers' layout (i + n (j + n k)) of a whole-grid field of voxel fractions
+// (properties/voxel_solid.h), clamped to [0, 1].
+std::vector<double> voxel_values(const Field& fraction);
+
 // Test geometry: the nodal gyroid F = sin x cos y + sin y cos z + sin z cos x (x = 2 pi X) at
 // the voxel centres; the solid is {F > c} (network) or {|F| < c} (sheet), with
 // s = clamp(1/2 + d / h) and d = (F - c) / |grad F| the linearised distance to the level set

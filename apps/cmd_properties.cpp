@@ -1,0 +1,248 @@
+// cmcsurf properties: effective stiffness and conductivities of a run's network or sheet solid
+// (and of the nodal part peer tools print), from the field on its own grid (docs/properties.md).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "io/json_file.h"
+#include "mesh_options.h"
+#include "pipeline/properties_stage.h"
+#include "run_control.h"
+
+namespace cmcsurf::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PropertiesCommand {
+  std::string from;
+  std::string solid = "network";
+  int phase = 1;
+  double porosity = NAN;
+  double thickness = NAN;
+  std::string material;  // E_GPa,nu
+  bool compare_nodal = false;
+  bool grid_check = false;
+  std::string only = "elastic,conductivity";
+  double tolerance = 1e-5;
+  double cell_size = 1.0;
+  std::string units = "cell";
+  std::string out;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// --material E_GPa,nu or E_GPa alone (nu 0.3).
+void parse_material(const std::string& text, PropertiesRequest& r) {
+  if (text.empty()) return;
+  std::stringstream in(text);
+  std::string e, nu, extra;
+  std::getline(in, e, ',');
+  std::getline(in, nu, ',');
+  std::getline(in, extra);
+  try {
+    std::size_t used = 0;
+    r.youngs_modulus_gpa = std::stod(e, &used);
+    if (used != e.size()) throw std::invalid_argument(e);
+    if (!nu.empty()) {
+      r.poisson_ratio = std::stod(nu, &used);
+      if (used != nu.size()) throw std::invalid_argument(nu);
+    }
+  } catch (const std::exception&) {
+    throw UsageError(fmt::format("--material: got '{}'; accepted: E_GPa[,nu], e.g. 110,0.34 "
+                                 "(Ti-6Al-4V)",
+                                 text));
+  }
+  if (!extra.empty())
+    throw UsageError(fmt::format("--material: got '{}'; accepted: E_GPa[,nu]", text));
+}
+
+PropertiesRequest request_of(const PropertiesCommand& cmd) {
+  PropertiesRequest r;
+  if (cmd.solid == "network")
+    r.solid.kind = SolidKind::kNetwork;
+  else if (cmd.solid == "sheet")
+    r.solid.kind = SolidKind::kSheet;
+  else
+    throw UsageError(fmt::format("--solid: got '{}'; accepted: network, sheet", cmd.solid));
+  if (cmd.phase != 1 && cmd.phase != 2)
+    throw UsageError(fmt::format("--phase: got {}; accepted: 1, 2", cmd.phase));
+  r.solid.other_phase = cmd.phase == 2;
+  const bool porosity = !std::isnan(cmd.porosity), thickness = !std::isnan(cmd.thickness);
+  if (r.solid.kind == SolidKind::kNetwork && (porosity || thickness))
+    throw UsageError(fmt::format(
+        "{}: a network's porosity is its member's (1 - the volume fraction of its phase); "
+        "compute the member at the porosity you want (run --volume-fraction), or use --solid "
+        "sheet",
+        porosity ? "--porosity" : "--thickness"));
+  if (r.solid.kind == SolidKind::kSheet && porosity == thickness)
+    throw UsageError("--solid sheet: give exactly one of --porosity P and --thickness T");
+  if (porosity && !(cmd.porosity > 0.0 && cmd.porosity < 1.0))
+    throw UsageError(fmt::format("--porosity: got {}; accepted: 0 < P < 1", cmd.porosity));
+  if (thickness && !(cmd.thickness > 0.0 && cmd.thickness < 0.5 * cmd.cell_size))
+    throw UsageError(fmt::format("--thickness: got {}; accepted: 0 < T < {} (half a cell of "
+                                 "--cell-size {})",
+                                 cmd.thickness, 0.5 * cmd.cell_size, cmd.cell_size));
+  r.solid.porosity = porosity ? cmd.porosity : NAN;
+  r.solid.thickness = thickness ? cmd.thickness : 0.0;
+  parse_material(cmd.material, r);
+  r.elastic = r.conductivity = false;
+  std::stringstream parts(cmd.only);
+  for (std::string part; std::getline(parts, part, ',');) {
+    if (part == "elastic")
+      r.elastic = true;
+    else if (part == "conductivity")
+      r.conductivity = true;
+    else
+      throw UsageError(
+          fmt::format("--only: got '{}'; accepted: a list of elastic, conductivity", part));
+  }
+  r.compare_nodal = cmd.compare_nodal;
+  r.grid_check = cmd.grid_check;
+  r.tolerance = cmd.tolerance;
+  r.cell_size = cmd.cell_size;
+  r.units = cmd.units;
+  if (const std::string why = check_properties_request(r); !why.empty()) throw UsageError(why);
+  return r;
+}
+
+std::string number(const nlohmann::json& j, const char* key, int index = -1) {
+  if (!j.contains(key)) return "-";
+  const nlohmann::json& v = index >= 0 ? j[key][std::size_t(index)] : j[key];
+  return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
+}
+
+// The summary: the CMC part beside the nodal ones, one row per number.
+void print_summary(const nlohmann::json& j) {
+  std::vector<std::pair<std::string, const nlohmann::json*>> sides = {{"CMC", &j}};
+  if (j.contains("nodal")) sides.push_back({"nodal", &j["nodal"]});
+  if (j.contains("nodal_offset")) sides.push_back({"nodal offset", &j["nodal_offset"]});
+  std::string head = fmt::format("{:<34}", "");
+  for (const auto& s : sides) head += fmt::format("{:>14}", s.first);
+  std::cerr << head << "\n";
+  auto row = [&](const std::string& label, const char* key, int index, const char* sub = nullptr) {
+    std::string line = fmt::format("{:<34}", label);
+    for (const auto& s : sides) {
+      const nlohmann::json& side = sub ? (*s.second).value(sub, nlohmann::json::object()) : *s.second;
+      line += fmt::format("{:>14}", number(side, key, index));
+    }
+    std::cerr << line << "\n";
+  };
+  row("relative density", "relative_density", -1);
+  row("sheet thickness", "thickness", -1);
+  if (j.contains("stiffness_voigt")) {
+    row("Young's modulus E_x / E_s", "youngs_modulus", 0);
+    row("shear modulus G_yz / E_s", "shear_modulus", 0);
+    row("Poisson ratio nu_xy", "poisson_ratio", 0);
+    row("bulk modulus / E_s", "bulk_modulus", -1);
+    row("Zener ratio", "zener_ratio", -1);
+    row("E min / E_s", "youngs_modulus_min", -1);
+    row("E max / E_s", "youngs_modulus_max", -1);
+    row("bulk modulus / HS upper bound", "bulk_modulus", -1, "fraction_of_bound");
+    if (j.contains("youngs_modulus_gpa")) row("Young's modulus E_x (GPa)", "youngs_modulus_gpa", 0);
+  }
+  if (j.contains("conductivity_solid")) {
+    std::string line = fmt::format("{:<34}", "conductivity solid k_xx / k_s");
+    for (const auto& s : sides)
+      line += fmt::format("{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_solid"][0][0].get<double>()));
+    std::cerr << line << "\n";
+    line = fmt::format("{:<34}", "conductivity pore k_xx / k_f");
+    for (const auto& s : sides)
+      line += fmt::format("{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_pore"][0][0].get<double>()));
+    std::cerr << line << "\n";
+    row("pore tortuosity (x)", "tortuosity_pore", 0);
+    row("k solid / HS upper bound", "conductivity_solid", -1, "fraction_of_bound");
+  }
+  for (const auto& s : sides)
+    for (const auto& w : (*s.second)["warnings"])
+      std::cerr << fmt::format("warning ({}): {}\n", s.first, w.get<std::string>());
+}
+
+int properties(PropertiesCommand& cmd) {
+  const PropertiesRequest base = request_of(cmd);
+  const bool folder = fs::is_directory(cmd.from);
+  if (cmd.out.empty() && !folder)
+    throw UsageError("--out: required when --from is a field file (a run folder's default is "
+                     "DIR/properties.json)");
+  const fs::path out = cmd.out.empty() ? fs::path(cmd.from) / "properties.json" : fs::path(cmd.out);
+  refuse_overwriting_inputs(field_inputs(cmd.from, "--from"), out);
+  std::map<std::string, std::string> metadata;
+  const Field phi = load_phi(cmd.from, "--from", &metadata);
+  PropertiesRequest r = base;
+  r.surface = metadata.count("surface") ? metadata["surface"] : "";
+  if (const fs::path report = field_run_report(cmd.from); !report.empty() && fs::exists(report)) {
+    const nlohmann::json j = read_json_file(report);
+    if (j.contains("surface") && j["surface"].is_string()) r.surface = j["surface"];
+  }
+  // Writing into the run's own folder: one writer at a time (io/output_folder.h).
+  FolderClaim claim;
+  if (cmd.out.empty()) claim = claim_folder(cmd.from, {.kind = "run", .option = "--from"},
+                                            *Decomposition::world());
+  apply_threads(cmd.threads);
+  nlohmann::json j;
+  try {
+    j = compute_properties(phi, r, [&](const std::string& line) {
+      if (!cmd.quiet) std::cerr << line << "\n";
+    });
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  j["source"] = cmd.from;
+  if (!r.surface.empty()) j["surface"] = r.surface;
+  j["version"] = version_string();
+  write_json_atomic(out, j);
+  if (!cmd.quiet) {
+    print_summary(j);
+    std::cerr << fmt::format("properties in {:.1f} s; wrote {}\n",
+                             j["properties_seconds"].get<double>(), out.string());
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandFn add_properties_command(CLI::App& root) {
+  auto cmd = std::make_shared<PropertiesCommand>();
+  CLI::App* app = root.add_subcommand(
+      "properties",
+      "Effective stiffness (6x6, Young's, shear and bulk moduli, Poisson ratios, anisotropy) and "
+      "conductivities (solid, pore space, tortuosity) of a run's network or sheet solid, beside "
+      "the Hashin-Shtrikman bounds, by periodic voxel finite elements on the field's grid "
+      "(docs/properties.md)\nExample: cmcsurf properties --from runs/gyroid --solid sheet "
+      "--porosity 0.7 --material 110,0.34 --compare-nodal");
+  app->add_option("--from", cmd->from, "Run folder (field.vti) or a .vti/.pvti file")->required();
+  app->add_option("--solid", cmd->solid,
+                  "network (one phase, its porosity the member's) or sheet (a wall around the "
+                  "phi = 1/2 surface)")
+      ->capture_default_str();
+  app->add_option("--phase", cmd->phase, "Network: the solid phase, 1 (phi > 1/2) or 2")
+      ->capture_default_str();
+  app->add_option("--porosity", cmd->porosity, "Sheet: solve the wall thickness for this porosity");
+  app->add_option("--thickness", cmd->thickness, "Sheet: wall thickness, in --units");
+  app->add_option("--material", cmd->material,
+                  "The solid's E_GPa,nu (nu alone defaults to 0.3): moduli also in GPa");
+  app->add_flag("--compare-nodal", cmd->compare_nodal,
+                "Also the nodal part at the same porosity as peer tools build it (network F > c; "
+                "sheet |F| < c, and the constant-thickness offset of F = 0)");
+  app->add_flag("--grid-check", cmd->grid_check,
+                "Also solve on N/2 and give Richardson error estimates (*_error keys)");
+  app->add_option("--only", cmd->only, "What to compute: elastic, conductivity (a list)")
+      ->capture_default_str();
+  app->add_option("--tolerance", cmd->tolerance, "CG's relative residual")->capture_default_str();
+  app->add_option("--cell-size", cmd->cell_size, "Units per unit cell, for --thickness")
+      ->capture_default_str();
+  app->add_option("--units", cmd->units, "Name of the length unit")->capture_default_str();
+  app->add_option("--out", cmd->out, "FILE.json (default: DIR/properties.json)");
+  add_threads_option(*app, cmd->threads);
+  app->add_flag("--quiet", cmd->quiet, "No progress or summary");
+  return {app, [cmd]() -> int { return properties(*cmd); }};
+}
+
+}  // namespace cmcsurf::cli

@@ -1,0 +1,234 @@
+#include "pipeline/properties_stage.h"
+
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "common/wall_clock.h"
+#include "properties/cell_properties.h"
+#include "properties/solid_fraction.h"
+#include "surfaces/initial.h"
+
+namespace cmcsurf {
+
+namespace {
+
+using properties::CellProperties;
+using properties::Matrix3;
+using properties::Matrix6;
+using properties::Vector3;
+
+nlohmann::json to_json(const Vector3& v) { return {v[0], v[1], v[2]}; }
+nlohmann::json to_json(const Matrix3& m) { return {to_json(m[0]), to_json(m[1]), to_json(m[2])}; }
+nlohmann::json to_json(const Matrix6& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& row : m) rows.push_back(nlohmann::json(std::vector<double>(row.begin(), row.end())));
+  return rows;
+}
+
+nlohmann::json solver_json(const properties::LoadCaseStats* cases, int count, bool converged,
+                           double seconds, std::size_t bytes) {
+  nlohmann::json iterations = nlohmann::json::array(), residuals = nlohmann::json::array();
+  for (int c = 0; c < count; ++c) {
+    iterations.push_back(cases[c].iterations);
+    residuals.push_back(cases[c].relative_residual);
+  }
+  return {{"iterations", iterations},
+          {"relative_residual", residuals},
+          {"converged", converged},
+          {"seconds", seconds},
+          {"memory_bytes", bytes}};
+}
+
+// The keys of one solid's properties (docs/properties.md names them). E: the solid's Young's
+// modulus in GPa (NaN: only the normalised values).
+nlohmann::json cell_json(const CellProperties& p, const PropertiesRequest& r, double e_gpa) {
+  nlohmann::json j;
+  j["relative_density"] = p.relative_density;
+  j["porosity"] = p.porosity;
+  j["grid"] = p.n;
+  if (r.elastic) {
+    const auto& c = p.constants;
+    j["stiffness_voigt"] = to_json(p.elastic.stiffness_voigt);
+    j["youngs_modulus"] = to_json(c.youngs_modulus);
+    j["shear_modulus"] = to_json(c.shear_modulus);
+    j["poisson_ratio"] = {c.poisson_ratio[0][1], c.poisson_ratio[1][2], c.poisson_ratio[2][0]};
+    j["bulk_modulus"] = c.bulk_modulus;
+    j["zener_ratio"] = c.zener_ratio;
+    j["youngs_modulus_min"] = c.youngs_modulus_min;
+    j["youngs_modulus_min_direction"] = to_json(c.direction_min);
+    j["youngs_modulus_max"] = c.youngs_modulus_max;
+    j["youngs_modulus_max_direction"] = to_json(c.direction_max);
+    if (std::isfinite(e_gpa)) {
+      Matrix6 gpa = p.elastic.stiffness_voigt;
+      for (auto& row : gpa)
+        for (double& x : row) x *= e_gpa;
+      j["stiffness_voigt_gpa"] = to_json(gpa);
+      Vector3 e = c.youngs_modulus, g = c.shear_modulus;
+      for (int a = 0; a < 3; ++a) e[a] *= e_gpa, g[a] *= e_gpa;
+      j["youngs_modulus_gpa"] = to_json(e);
+      j["shear_modulus_gpa"] = to_json(g);
+      j["bulk_modulus_gpa"] = c.bulk_modulus * e_gpa;
+      j["youngs_modulus_min_gpa"] = c.youngs_modulus_min * e_gpa;
+      j["youngs_modulus_max_gpa"] = c.youngs_modulus_max * e_gpa;
+    }
+  }
+  nlohmann::json bound = {{"bulk_modulus", p.bound_solid.bulk_modulus},
+                          {"shear_modulus", p.bound_solid.shear_modulus},
+                          {"youngs_modulus", p.bound_solid.youngs_modulus}};
+  nlohmann::json reached = {{"bulk_modulus", p.bulk_fraction_of_bound},
+                            {"shear_modulus", p.shear_fraction_of_bound},
+                            {"youngs_modulus", p.youngs_fraction_of_bound}};
+  if (r.conductivity) {
+    j["conductivity_solid"] = to_json(p.solid_conduction.conductivity);
+    j["conductivity_pore"] = to_json(p.pore_conduction.conductivity);
+    j["formation_factor"] = to_json(p.formation_factor);
+    j["tortuosity_pore"] = to_json(p.tortuosity_pore);
+    bound["conductivity_solid"] = p.bound_solid.conductivity;
+    bound["conductivity_pore"] = p.bound_conductivity_pore;
+    reached["conductivity_solid"] = p.conductivity_solid_fraction_of_bound;
+    reached["conductivity_pore"] = p.conductivity_pore_fraction_of_bound;
+  }
+  if (!r.elastic)
+    for (const char* k : {"bulk_modulus", "shear_modulus", "youngs_modulus"}) {
+      bound.erase(k);
+      reached.erase(k);
+    }
+  j["hashin_shtrikman_upper"] = bound;
+  j["fraction_of_bound"] = reached;
+  j["percolates"] = {{"solid", p.solid_percolates}, {"pore", p.pore_percolates}};
+  j["warnings"] = p.warnings;
+  nlohmann::json solver = {{"tolerance", r.tolerance}};
+  if (r.elastic)
+    solver["elastic"] = solver_json(p.elastic.load_cases.data(), 6, p.elastic.converged,
+                                    p.elastic.seconds, p.elastic.bytes);
+  if (r.conductivity) {
+    solver["conductivity_solid"] =
+        solver_json(p.solid_conduction.load_cases.data(), 3, p.solid_conduction.converged,
+                    p.solid_conduction.seconds, p.solid_conduction.bytes);
+    solver["conductivity_pore"] =
+        solver_json(p.pore_conduction.load_cases.data(), 3, p.pore_conduction.converged,
+                    p.pore_conduction.seconds, p.pore_conduction.bytes);
+  }
+  solver["removed_solid_fraction"] = p.elastic.removed_solid_fraction;
+  j["solver"] = solver;
+  j["seconds"] = p.seconds;
+  return j;
+}
+
+// fine + (fine - coarse) / (2^p - 1) element by element, and |fine - limit| as the error.
+nlohmann::json richardson_error(const nlohmann::json& fine, const nlohmann::json& coarse) {
+  if (fine.is_number())
+    return std::abs(fine.get<double>() - properties::richardson_limit(fine.get<double>(),
+                                                                      coarse.get<double>()));
+  nlohmann::json e = nlohmann::json::array();
+  for (std::size_t i = 0; i < fine.size(); ++i) e.push_back(richardson_error(fine[i], coarse[i]));
+  return e;
+}
+
+constexpr const char* kCheckedKeys[] = {
+    "stiffness_voigt", "youngs_modulus", "shear_modulus", "poisson_ratio",    "bulk_modulus",
+    "zener_ratio",     "conductivity_solid", "conductivity_pore", "tortuosity_pore"};
+
+// One solid's properties, with the grid check's *_error keys when asked.
+nlohmann::json solid_properties(const VoxelSolid& v, const PropertiesRequest& r,
+                                const std::function<void(const std::string&)>& progress,
+                                const std::string& what) {
+  properties::CellPropertiesOptions o;
+  o.poisson_ratio = r.poisson_ratio;
+  o.elasticity = r.elastic;
+  o.conductivity = r.conductivity;
+  o.solver.tolerance = r.tolerance;
+  const int n = v.fraction.n();
+  const std::vector<double> s = properties::voxel_values(v.fraction);
+  if (progress) progress(fmt::format("{}: {}^3 voxels, relative density {:.4f}", what, n,
+                                     v.solid_fraction));
+  if (!r.grid_check)
+    return cell_json(properties::compute_cell_properties(n, s, o), r, r.youngs_modulus_gpa);
+  const properties::GridCheck g = properties::grid_check(n, s, o);
+  nlohmann::json j = cell_json(g.fine, r, r.youngs_modulus_gpa);
+  const nlohmann::json coarse = cell_json(g.coarse, r, r.youngs_modulus_gpa);
+  for (const char* key : kCheckedKeys)
+    if (j.contains(key)) j[std::string(key) + "_error"] = richardson_error(j[key], coarse[key]);
+  j["grid_check"] = {{"coarse_grid", g.coarse.n},
+                     {"order", properties::kGridCheckOrder},
+                     {"coarse_relative_density", g.coarse.relative_density},
+                     {"seconds", g.coarse.seconds}};
+  return j;
+}
+
+void describe_solid(nlohmann::json& j, const SolidSpec& spec, const VoxelSolid& v,
+                    const PropertiesRequest& r) {
+  j["solid"] = spec.kind == SolidKind::kSheet ? "sheet" : "network";
+  if (spec.kind == SolidKind::kNetwork) j["phase"] = spec.other_phase ? 2 : 1;
+  if (spec.kind == SolidKind::kSheet && v.thickness > 0.0) {
+    j["thickness"] = v.thickness * r.cell_size;
+    j["thickness_units"] = r.units;
+  }
+  if (std::isfinite(v.level)) j["nodal_level"] = v.level;
+}
+
+}  // namespace
+
+std::string check_properties_request(const PropertiesRequest& r) {
+  if (!std::isnan(r.youngs_modulus_gpa) &&
+      !(r.youngs_modulus_gpa > 0.0 && r.youngs_modulus_gpa <= 1e4))
+    return fmt::format("--material: E {} GPa; accepted: 0 < E <= 1e4", r.youngs_modulus_gpa);
+  if (!(r.poisson_ratio > -1.0 && r.poisson_ratio < 0.5))
+    return fmt::format("--material: nu {}; accepted: -1 < nu < 0.5", r.poisson_ratio);
+  if (!(r.tolerance >= 1e-12 && r.tolerance <= 1e-2))
+    return fmt::format("--tolerance: got {}; accepted: 1e-12 to 1e-2", r.tolerance);
+  if (!r.elastic && !r.conductivity) return "--only: nothing to compute";
+  if (!(r.cell_size > 0.0 && std::isfinite(r.cell_size)))
+    return fmt::format("--cell-size: got {}; accepted: > 0", r.cell_size);
+  return {};
+}
+
+nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
+                                  const std::function<void(const std::string&)>& progress) {
+  const auto t0 = WallClock::now();
+  if (const std::string why = check_properties_request(r); !why.empty())
+    throw std::invalid_argument(why);
+  SolidSpec spec = r.solid;
+  if (spec.kind == SolidKind::kSheet && !std::isfinite(spec.porosity))
+    spec.thickness = r.solid.thickness / r.cell_size;  // the user's units -> unit cells
+  if (r.grid_check && (phi.n() % 2 != 0 || phi.n() < 16))
+    throw std::invalid_argument(fmt::format(
+        "--grid-check: the field's grid {} has no half (accepted: even N >= 16)", phi.n()));
+  const VoxelSolid cmc = cmc_voxel_solid(phi, spec);
+  if (!(cmc.solid_fraction > 0.0 && cmc.solid_fraction < 1.0))
+    throw std::invalid_argument(
+        fmt::format("the field's solid fills {} of the cell: there is no surface",
+                    cmc.solid_fraction));
+  nlohmann::json j = solid_properties(cmc, r, progress, "CMC solid");
+  describe_solid(j, spec, cmc, r);
+  if (std::isfinite(r.youngs_modulus_gpa)) j["material"] = {{"youngs_modulus_gpa", r.youngs_modulus_gpa}};
+  j["material"]["poisson_ratio"] = r.poisson_ratio;
+  j["notation"] =
+      "Voigt order 11 22 33 23 13 12 with engineering shear strains; stiffnesses normalised by "
+      "the solid's Young's modulus, conductivities by the solid's (the pore's by the fluid's); "
+      "youngs_modulus and shear_modulus along x, y, z (shear: yz, xz, xy); poisson_ratio "
+      "nu_xy, nu_yz, nu_zx";
+  if (r.compare_nodal) {
+    if (!is_nodal_surface(r.surface))
+      throw std::invalid_argument(fmt::format(
+          "--compare-nodal: surface '{}' has no nodal formula to compare with", r.surface));
+    SolidSpec twin = spec;
+    const VoxelSolid band =
+        nodal_voxel_solid(r.surface, phi.n(), twin, cmc.porosity, NodalSheet::kBand);
+    j["nodal"] = solid_properties(band, r, progress,
+                                  spec.kind == SolidKind::kSheet ? "nodal band" : "nodal network");
+    describe_solid(j["nodal"], spec, band, r);
+    if (spec.kind == SolidKind::kSheet) {
+      const VoxelSolid offset =
+          nodal_voxel_solid(r.surface, phi.n(), twin, cmc.porosity, NodalSheet::kOffset);
+      j["nodal_offset"] = solid_properties(offset, r, progress, "nodal offset");
+      describe_solid(j["nodal_offset"], spec, offset, r);
+    }
+  }
+  j["properties_seconds"] = seconds_since(t0);
+  return j;
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,43 @@
+// What a solid does (docs/properties.md): its effective stiffness and conductivities from the
+// voxel homogenisation of properties/, as the dictionary `cmcsurf properties` writes to
+// FILE.json, `run --properties` adds to report.json and Python returns. One place computes and
+// names every number; the command line and the module only translate options.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "grid/field.h"
+#include "properties/voxel_solid.h"
+
+namespace cmcsurf {
+
+struct PropertiesRequest {
+  SolidSpec solid;                  // network or sheet, phase, thickness or porosity
+  double youngs_modulus_gpa = NAN;  // E_s of the material (--material E_GPa,nu); NaN: none
+  double poisson_ratio = 0.3;       // nu_s
+  bool elastic = true;              // --only elastic,conductivity
+  bool conductivity = true;
+  bool compare_nodal = false;       // the nodal twin(s) at the same porosity
+  bool grid_check = false;          // N and N/2, Richardson, *_error
+  double tolerance = 1e-5;          // CG's relative residual
+  std::string surface;              // the nodal formula of the member (for compare_nodal)
+  double cell_size = 1.0;           // output units per unit cell (thickness in these units)
+  std::string units = "cell";
+};
+
+// Why the request cannot be computed ("" if it can), naming the option: ranges of
+// --material, --tolerance, --porosity/--thickness, --only.
+std::string check_properties_request(const PropertiesRequest& r);
+
+// The properties of the CMC field's solid (and, with compare_nodal, the nodal part as peer
+// tools build it, in "nodal", and for a sheet the constant-thickness offset in
+// "nodal_offset"). phi: a whole grid, ghost >= 2. `progress` gets a line per stage (may be
+// empty). Throws std::invalid_argument for a request out of range or a field with no surface.
+nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
+                                  const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace cmcsurf
