@@ -10,6 +10,8 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           admesh libopenmpi-dev openmpi-bin
           # Scaffolds (docs/scaffolds.md): 3MF files, mesh decimation, a shape's distance.
           lib3mf-dev libopenmesh-dev libopenvdb-dev
+          # Structure factors (cmcsurf scattering, docs/science.md).
+          libfftw3-dev
           # The Python module (python/, docs/python.md) and its tests and examples.
           pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
           python3-setuptools python3-wheel python3-pip python3-venv
