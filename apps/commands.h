@@ -17,5 +17,6 @@ CommandFn add_mesh_command(CLI::App& root);    // apps/cmd_mesh.cpp
 CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
 CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp
 CommandFn add_scaffold_command(CLI::App& root);  // apps/cmd_scaffold.cpp
+CommandFn add_scattering_command(CLI::App& root);  // apps/cmd_scattering.cpp
 
 }  // namespace cmcsurf::cli

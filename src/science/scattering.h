@@ -124,7 +124,7 @@ struct PowderParams {
   double debye_waller = 0.0;   // sigma, nm
   double peak_width = 0.0;     // FWHM, 1/nm (0: 1% of the first present peak's q)
   bool lorentzian = false;
-  int samples = 2000;
+  int samples = 4000;
 };
 struct PowderPattern {
   std::vector<double> q, intensity;
