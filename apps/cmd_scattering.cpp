@@ -140,7 +140,8 @@ CommandFn add_scattering_command(CLI::App& root) {
               if (!(v > 0 && v < 1))
                 throw UsageError(fmt::format("{}: got {}; accepted: 0 < value < 1", name, v));
             if (cmd->smax < 0)
-              throw UsageError(fmt::format("--smax: got {}; accepted: >= 1 (0: default)", cmd->smax));
+              throw UsageError(
+                  fmt::format("--smax: got {}; accepted: >= 1 (0: default)", cmd->smax));
             std::vector<double> peaks;
             if (!cmd->peaks.empty()) peaks = parse_peaks(cmd->peaks);
             const Field phi = load_phi(cmd->from, "--from");
@@ -154,7 +155,8 @@ CommandFn add_scattering_command(CLI::App& root) {
             double lo = INFINITY, hi = -INFINITY;
             for (int k = 0; k < n; ++k)
               for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) lo = std::min(lo, phi(i, j, k)), hi = std::max(hi, phi(i, j, k));
+                for (int i = 0; i < n; ++i)
+                  lo = std::min(lo, phi(i, j, k)), hi = std::max(hi, phi(i, j, k));
             if (!(lo < 0.5 && hi > 0.5))
               throw UsageError(fmt::format(
                   "--from: '{}' has no phi = 1/2 surface (phi in [{:.6g}, {:.6g}])", cmd->from, lo,

@@ -8,10 +8,11 @@ r="$work/g"
 "$bin" run --surface G --volume-fraction 0.5 --grid 32 --epsilon 0.03 --fast --quiet \
   --no-preview --no-report --out "$r" || { echo "FAIL: run"; exit 1; }
 # Synthetic peaks of Ia-3d at a = 12 nm: q = 2 pi sqrt(s) / a for s = 6, 8, 14, 16.
-peaks=$(python3 -c "import math; print(','.join('%.6f' % (2*math.pi*math.sqrt(s)/12) for s in (6,8,14,16)))")
-"$bin" scattering --from "$r" --density bilayer:0.05 --lattice 12 --peaks "$peaks" --quiet \
-  || { echo "FAIL: scattering"; exit 1; }
-"$bin" scattering --from "$r" --quiet --out "$work/step" || { echo "FAIL: scattering step"; exit 1; }
+peaks=$(python3 -c "import math
+print(','.join('%.6f' % (2 * math.pi * math.sqrt(s) / 12) for s in (6, 8, 14, 16)))")
+"$bin" scattering --from "$r" --density bilayer:0.05 --lattice 12 --peaks "$peaks" \
+  --quiet || { echo "FAIL: scattering"; exit 1; }
+"$bin" scattering --from "$r" --quiet --out "$work/step" || { echo "FAIL: step"; exit 1; }
 for f in reflections.csv saxs.csv saxs.png scattering.json; do
   [ -s "$r/scattering/$f" ] || { echo "FAIL: missing scattering/$f"; exit 1; }
 done
