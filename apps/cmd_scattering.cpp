@@ -35,6 +35,7 @@ struct ScatteringCommand {
   double absent_tol = 1e-6;
   double index_tol = 0.01;
   std::string out;
+  int threads = 0;
   bool quiet = false;
 };
 
@@ -115,6 +116,7 @@ CommandFn add_scattering_command(CLI::App& root) {
                   "Indexing: largest relative residual |q - q_fit| / q accepted (0 < T < 1)")
       ->capture_default_str();
   app->add_option("--out", cmd->out, "Output directory (default: the run folder's scattering/)");
+  add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No summary output");
   return {app, [cmd]() -> int {
             const auto t0 = WallClock::now();
@@ -167,6 +169,7 @@ CommandFn add_scattering_command(CLI::App& root) {
                 : std::filesystem::is_directory(from) ? from / "scattering"
                                                        : from.parent_path() / "scattering";
             const double load_s = seconds_since(t0);
+            apply_threads(cmd->threads);
 
             auto t = WallClock::now();
             const DensityGrid rho = density_from_phase_field(phi, density);

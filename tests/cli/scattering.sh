@@ -47,6 +47,7 @@ expect_usage --peak-width   scattering --from "$r" --peak-width -0.1
 expect_usage --peak-shape   scattering --from "$r" --peak-shape voigt
 expect_usage --absent-tol   scattering --from "$r" --absent-tol 0
 expect_usage --index-tol    scattering --from "$r" --index-tol 1
+expect_usage --threads      scattering --from "$r" --threads -1
 # A field without a surface: the run's field with every phi set to 0.2.
 mkdir -p "$work/flat"
 python3 - "$r/field.vti" "$work/flat/field.vti" <<'PY'
