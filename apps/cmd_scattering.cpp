@@ -171,52 +171,40 @@ CommandFn add_scattering_command(CLI::App& root) {
             const double load_s = seconds_since(t0);
             apply_threads(cmd->threads);
 
-            auto t = WallClock::now();
-            const DensityGrid rho = density_from_phase_field(phi, density);
-            const double density_s = seconds_since(t);
-            t = WallClock::now();
-            const StructureFactors f(rho);
-            const double fft_s = seconds_since(t);
-            t = WallClock::now();
-            const auto classes = reflection_classes(f, smax, cmd->absent_tol);
-            const SpaceGroupFit fit = detect_space_group(classes);
-            PowderParams pp;
-            pp.lattice = cmd->lattice;
-            pp.debye_waller = cmd->debye_waller;
-            pp.peak_width = cmd->peak_width;
-            pp.lorentzian = cmd->peak_shape == "lorentzian";
-            const PowderPattern pattern = powder_pattern(classes, pp);
-            nlohmann::json indexing;
-            if (!peaks.empty()) {
-              const int reduced_smax = smax / (fit.divisor * fit.divisor);
-              Indexing ix;
-              try {
-                ix = index_peaks(peaks, *fit.best, reduced_smax, cmd->index_tol);
-              } catch (const std::invalid_argument& e) {
-                throw UsageError(fmt::format("--peaks: {}", e.what()));
-              }
-              indexing = indexing_json(ix, fit.divisor);
-              indexing["by_group"] = nlohmann::json::object();
-              for (const auto& c : fit.consistent) {
-                try {
-                  indexing["by_group"][c.group->symbol] = indexing_json(
-                      index_peaks(peaks, *c.group, reduced_smax, cmd->index_tol), fit.divisor);
-                } catch (const std::runtime_error&) {
-                  indexing["by_group"][c.group->symbol] = nullptr;  // no assignment fits
-                }
-              }
+            ScatteringParams sp;
+            sp.density = density;
+            sp.smax = smax;
+            sp.absent_tol = cmd->absent_tol;
+            sp.powder.lattice = cmd->lattice;
+            sp.powder.debye_waller = cmd->debye_waller;
+            sp.powder.peak_width = cmd->peak_width;
+            sp.powder.lorentzian = cmd->peak_shape == "lorentzian";
+            sp.peaks = peaks;
+            sp.index_tol = cmd->index_tol;
+            ScatteringResult result;
+            try {
+              result = scattering_analysis(phi, sp);
+            } catch (const std::invalid_argument& e) {
+              throw UsageError(fmt::format("--peaks: {}", e.what()));  // the rest is checked
             }
-            const double analysis_s = seconds_since(t);
+            const auto& classes = result.classes;
+            const SpaceGroupFit& fit = result.space_group;
+            const PowderPattern& pattern = result.powder;
+            nlohmann::json indexing;
+            if (result.indexed) {
+              indexing = indexing_json(result.indexing, fit.divisor);
+              indexing["by_group"] = nlohmann::json::object();
+              for (const auto& [symbol, ix] : result.by_group)
+                indexing["by_group"][symbol] =
+                    ix ? indexing_json(*ix, fit.divisor) : nlohmann::json(nullptr);
+            }
 
             // Outputs.
             CsvWriter reflections({"h", "k", "l", "s", "multiplicity", "intensity", "amplitude",
                                    "phase"});
-            double spread = 0;
-            for (const auto& r : classes) {
+            for (const auto& r : classes)
               reflections.add_row({r.h, r.k, r.l, r.s, r.multiplicity, r.intensity, r.amplitude,
                                    r.phase});
-              spread = std::max(spread, r.spread);
-            }
             CsvWriter saxs({"q", "intensity"});
             for (std::size_t i = 0; i < pattern.q.size(); ++i)
               saxs.add_row({pattern.q[i], pattern.intensity[i]});
@@ -237,8 +225,8 @@ CommandFn add_scattering_command(CLI::App& root) {
                 {"peak_width", pattern.width},
                 {"peak_shape", cmd->peak_shape},
                 {"absent_tol", cmd->absent_tol},
-                {"f000", f(0, 0, 0).real()},
-                {"symmetry_spread", spread},
+                {"f000", result.f000},
+                {"symmetry_spread", result.symmetry_spread},
                 {"space_group",
                  {{"symbol", fit.best->symbol},
                   {"number", fit.best->number},
@@ -248,10 +236,12 @@ CommandFn add_scattering_command(CLI::App& root) {
                   {"accidentally_absent", accidental}}},
                 {"allowed", indices(classes, true)},
                 {"absent", indices(classes, false)},
-                {"timings", {{"load_seconds", load_s}, {"density_seconds", density_s},
-                             {"fft_seconds", fft_s}, {"analysis_seconds", analysis_s}}}};
+                {"timings", {{"load_seconds", load_s},
+                             {"density_seconds", result.density_seconds},
+                             {"fft_seconds", result.fft_seconds},
+                             {"analysis_seconds", result.analysis_seconds}}}};
             if (density.model == DensityModel::kBilayer)
-              report["interface_width"] = rho.interface_width;
+              report["interface_width"] = result.interface_width;
             if (!indexing.is_null()) {
               report["peaks"] = peaks;
               report["indexing"] = indexing;

@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
 #include "measure/sharp_volume.h"
 
 namespace cmcsurf {
@@ -482,6 +483,54 @@ Indexing index_peaks(const std::vector<double>& peaks, const SpaceGroup& g, int 
         "relative residual of {:g}",
         q.size(), g.symbol, smax, tol));
   return best;
+}
+
+ScatteringResult scattering_analysis(const Field& phi, const ScatteringParams& p) {
+  ScatteringResult r;
+  r.n = phi.n();
+  const int max_smax = (r.n / 2 - 1) * (r.n / 2 - 1);
+  if (p.smax < 0 || p.smax > max_smax)
+    throw std::invalid_argument(fmt::format(
+        "smax {} outside [1, {}] on this {}^3 grid (indices up to {}; 0: the default)", p.smax,
+        max_smax, r.n, r.n / 2 - 1));
+  r.smax = p.smax > 0 ? p.smax : std::min(100, max_smax);
+  double lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < r.n; ++k)
+    for (int j = 0; j < r.n; ++j)
+      for (int i = 0; i < r.n; ++i)
+        lo = std::min(lo, phi(i, j, k)), hi = std::max(hi, phi(i, j, k));
+  if (!(lo < 0.5 && hi > 0.5))
+    throw std::invalid_argument(
+        fmt::format("the field has no phi = 1/2 surface (phi in [{:.6g}, {:.6g}])", lo, hi));
+  auto t = WallClock::now();
+  const DensityGrid rho = density_from_phase_field(phi, p.density);
+  r.interface_width = rho.interface_width;
+  r.density_seconds = seconds_since(t);
+  t = WallClock::now();
+  const StructureFactors f(rho);
+  r.fft_seconds = seconds_since(t);
+  t = WallClock::now();
+  r.f000 = f(0, 0, 0).real();
+  r.classes = reflection_classes(f, r.smax, p.absent_tol);
+  for (const auto& c : r.classes) r.symmetry_spread = std::max(r.symmetry_spread, c.spread);
+  r.space_group = detect_space_group(r.classes);
+  r.powder = powder_pattern(r.classes, p.powder);
+  if (!p.peaks.empty()) {
+    const int d = r.space_group.divisor;
+    const int reduced_smax = r.smax / (d * d);
+    r.indexing = index_peaks(p.peaks, *r.space_group.best, reduced_smax, p.index_tol);
+    r.indexed = true;
+    for (const auto& c : r.space_group.consistent) {
+      std::optional<Indexing> ix;
+      try {
+        ix = index_peaks(p.peaks, *c.group, reduced_smax, p.index_tol);
+      } catch (const std::runtime_error&) {
+      }
+      r.by_group.emplace_back(c.group->symbol, ix);
+    }
+  }
+  r.analysis_seconds = seconds_since(t);
+  return r;
 }
 
 }  // namespace cmcsurf

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -150,5 +151,32 @@ struct Indexing {
 };
 Indexing index_peaks(const std::vector<double>& peaks, const SpaceGroup& g, int smax,
                      double tol = 0.01);
+
+// The whole analysis that `cmcsurf scattering` writes (and a binding would return): density,
+// transform, classes, space group, powder pattern and, with peaks, the indexing by the best
+// group and by every consistent one (by_group: empty where none fits). Throws
+// std::invalid_argument for a field without a phi = 1/2 surface, smax outside [0, (N/2-1)^2]
+// (0: min(100, that)) or bad peaks; std::runtime_error when the best group indexes no
+// assignment.
+struct ScatteringParams {
+  DensityParams density;
+  int smax = 0;
+  double absent_tol = 1e-6;
+  PowderParams powder;
+  std::vector<double> peaks;  // 1/nm; empty: no indexing
+  double index_tol = 0.01;
+};
+struct ScatteringResult {
+  int n = 0, smax = 0;
+  double f000 = 0.0, interface_width = 0.0, symmetry_spread = 0.0;
+  std::vector<Reflection> classes;
+  SpaceGroupFit space_group;
+  PowderPattern powder;
+  bool indexed = false;
+  Indexing indexing;  // lattice in the group's cell: times space_group.divisor for the box
+  std::vector<std::pair<std::string, std::optional<Indexing>>> by_group;
+  double density_seconds = 0, fft_seconds = 0, analysis_seconds = 0;
+};
+ScatteringResult scattering_analysis(const Field& phi, const ScatteringParams& p);
 
 }  // namespace cmcsurf

@@ -165,6 +165,26 @@ TEST(Scattering, IndexingRecoversLattice) {
                std::runtime_error);
 }
 
+// The whole analysis: the G sheet's group and its indexing; bad input refused.
+TEST(Scattering, Analysis) {
+  ScatteringParams p;
+  p.density = parse_density_model("bilayer:0.05");
+  p.powder.lattice = 10;
+  for (int s : {6, 8, 14}) p.peaks.push_back(2 * kPi * std::sqrt(double(s)) / 10);
+  const Field phi = nodal_profile("G", 0.5, 16);
+  const ScatteringResult r = scattering_analysis(phi, p);
+  EXPECT_EQ(r.smax, 49);  // (16/2 - 1)^2
+  EXPECT_STREQ(r.space_group.best->symbol, "Ia-3d");
+  EXPECT_NEAR(r.indexing.lattice, 10, 1e-9);
+  EXPECT_FALSE(r.powder.q.empty());
+  p.smax = 50;
+  EXPECT_THROW(scattering_analysis(phi, p), std::invalid_argument);
+  p.smax = 0;
+  Field flat(16, 2);
+  flat.fill(0.2);
+  EXPECT_THROW(scattering_analysis(flat, p), std::invalid_argument);
+}
+
 TEST(Scattering, DensityModelParsing) {
   EXPECT_EQ(parse_density_model("bilayer:0.1").half_thickness, 0.1);
   EXPECT_THROW(parse_density_model("bilayer:0.3"), std::invalid_argument);

@@ -42,6 +42,7 @@ expect_usage --smax         scattering --from "$r" --smax -1
 expect_usage --lattice      scattering --from "$r" --lattice 0
 expect_usage --peaks        scattering --from "$r" --peaks 0.5
 expect_usage --peaks        scattering --from "$r" --peaks 0.5,x
+expect_usage --peaks        scattering --from "$r" --peaks 0.5,0.5
 expect_usage --debye-waller scattering --from "$r" --debye-waller -1
 expect_usage --peak-width   scattering --from "$r" --peak-width -0.1
 expect_usage --peak-shape   scattering --from "$r" --peak-shape voigt
