@@ -246,9 +246,11 @@ CommandFn add_scattering_command(CLI::App& root) {
               report["peaks"] = peaks;
               report["indexing"] = indexing;
             }
+            std::filesystem::path name = from.lexically_normal();  // the title: its last name
+            if (name.filename().empty()) name = name.parent_path();
             const Image plot = draw_saxs_plot(
-                pattern, fmt::format("{}: {} density, {}", cmd->from, density_model_name(density),
-                                     fit.best->symbol));
+                pattern, fmt::format("{}: {} density, {}", name.filename().string(),
+                                     density_model_name(density), fit.best->symbol));
             ensure_directory(out);
             // TODO(lead): claim the folder (io/output_folder.h) before writing into it.
             reflections.save(out / "reflections.csv");
