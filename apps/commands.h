@@ -18,5 +18,6 @@ CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
 CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp
 CommandFn add_scaffold_command(CLI::App& root);  // apps/cmd_scaffold.cpp
 CommandFn add_properties_command(CLI::App& root);  // apps/cmd_properties.cpp
+CommandFn add_scattering_command(CLI::App& root);  // apps/cmd_scattering.cpp
 
 }  // namespace cmcsurf::cli

@@ -10,7 +10,7 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           admesh libopenmpi-dev openmpi-bin
           # Scaffolds (docs/scaffolds.md): 3MF files, mesh decimation, a shape's distance.
           lib3mf-dev libopenmesh-dev libopenvdb-dev
-          # Effective properties (src/properties/): the FFT preconditioner.
+          # FFTs: effective properties (src/properties/) and structure factors (docs/science.md).
           libfftw3-dev pkg-config
           # The Python module (python/, docs/python.md) and its tests and examples.
           pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
