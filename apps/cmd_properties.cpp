@@ -136,7 +136,8 @@ void print_summary(const nlohmann::json& j) {
     std::cerr << line << "\n";
   };
   row("relative density", "relative_density", -1);
-  row("sheet thickness", "thickness", -1);
+  if (j.contains("thickness")) row("sheet thickness (" + j.value("thickness_units", "") + ")",
+                                  "thickness", -1);
   if (j.contains("stiffness_voigt")) {
     row("Young's modulus E_x / E_s", "youngs_modulus", 0);
     row("shear modulus G_yz / E_s", "shear_modulus", 0);

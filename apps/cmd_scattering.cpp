@@ -10,6 +10,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "run_control.h"
 #include "common/wall_clock.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
@@ -251,8 +252,10 @@ CommandFn add_scattering_command(CLI::App& root) {
             const Image plot = draw_saxs_plot(
                 pattern, fmt::format("{}: {} density, {}", name.filename().string(),
                                      density_model_name(density), fit.best->symbol));
-            ensure_directory(out);
-            // TODO(lead): claim the folder (io/output_folder.h) before writing into it.
+            // Ours (new, empty or cmcsurf's) and one writer at a time (io/output_folder.h);
+            // scattering.json last, as the mark of a complete folder.
+            const FolderClaim claim = claim_folder(out, {.kind = "scattering", .option = "--out"},
+                                                   *Decomposition::world());
             reflections.save(out / "reflections.csv");
             saxs.save(out / "saxs.csv");
             write_png(out / "saxs.png", plot);
