@@ -11,6 +11,7 @@
 
 #include "common/wall_clock.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/png.h"
 #include "io/pvti.h"
 #include "io/report_html.h"
@@ -25,6 +26,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string read_text(const fs::path& path) {
+  require_regular_file(path, "input file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
   std::ostringstream s;
