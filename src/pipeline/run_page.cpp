@@ -174,7 +174,8 @@ double write_sweep_page(const fs::path& dir) {
       "<th>nodal area excess</th><th>steps</th></tr>\n";
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
-      const std::string name = member_name(surfaces[si], int(si), alpha);
+      const std::string name =
+          checked_member_name(surfaces[si], int(si), alpha, summary_path.string());
       const fs::path member = dir / name;
       const nlohmann::json report = read_json_file(member / "report.json");
       const double h = number_or(report, "mean_curvature", 0.0);
@@ -281,7 +282,8 @@ double write_gallery_from_folder(const fs::path& dir) {
   std::vector<GalleryMember> members;
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
-      const std::string name = member_name(surfaces[si], int(si), alpha);
+      const std::string name =
+          checked_member_name(surfaces[si], int(si), alpha, summary_path.string());
       members.push_back(gallery_member_from_folder(dir / name, surfaces[si], name, alpha));
     }
   write_gallery(dir, members);
