@@ -168,7 +168,7 @@ CommandFn add_verify_command(CLI::App& root) {
             for (const auto& [name, n] : {std::pair<const char*, int>{"--transition-grid",
                                                                       cmd->transition_grid},
                                           {"--cube-grid", cmd->cube_grid}}) {
-              const std::string problem = check_coarsenable(n);
+              const std::string problem = check_verify_grid(n);
               if (!problem.empty()) throw UsageError(fmt::format("{}: {}", name, problem));
             }
             if (cmd->cube_steps < 1)

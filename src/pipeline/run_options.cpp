@@ -67,9 +67,9 @@ void check_run_params(const RunParams& p, bool check_surface) {
     require(p.volume_fraction > 0.0 && p.volume_fraction < 1.0, "--volume-fraction",
             p.volume_fraction, "0 < A < 1");
   }
-  const std::string grid_problem = check_coarsenable(p.grid);
+  require(p.grid <= kMaxGrid, "--grid", p.grid, fmt::format("N <= {}", kMaxGrid).c_str());
+  const std::string grid_problem = check_coarsenable(p.grid);  // after the bound: no overflow
   if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
-  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
   require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
   require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
           "C > 0 (dt = C h)");
