@@ -18,6 +18,7 @@
 #include "io/atomic_file.h"
 #include "io/file_checksum.h"
 #include "io/file_identity.h"
+#include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/output_folder.h"
 #include "io/mesh_output.h"
@@ -252,6 +253,11 @@ int run_scaffold(ScaffoldCommand& cmd) {
     if (cmd.size_option->count() > 0)
       throw UsageError("--size: not with --shape (the part is the shape's own bounding box)");
     if (ramp) throw UsageError("--shape: takes one --porosity, not a ramp");
+    try {
+      require_regular_file(cmd.shape, "--shape");  // a FIFO would block the open
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
     if (!std::filesystem::is_regular_file(cmd.shape))
       throw UsageError(fmt::format("--shape: '{}' is not a file", cmd.shape));
     shape.emplace();

@@ -171,14 +171,16 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
   const fs::path file = dir / "sweep.json";
   SweepParams sp;
   nlohmann::json j;
+  SweepJson saved;  // checked: ranges, member names; no executables among its outputs
   try {
     j = read_json_file(file);
-    j.at("surfaces").get_to(sp.surfaces);
-    j.at("volume_fractions").get_to(sp.fractions);
-    j.at("continuation").get_to(sp.continuation);
+    saved = parse_sweep_json(j);
+    sp = saved.sweep;
     sp.run = resumed_params(app, given.run, j.at("parameters"), file);
   } catch (const UsageError&) {
     throw;
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
   } catch (const std::exception& e) {
     throw UsageError(fmt::format("--resume {}: no sweep to resume ({})", dir.string(), e.what()));
   }
@@ -190,7 +192,7 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
   if (j.contains("outputs")) {
     if (!j["outputs"].is_object())
       throw UsageError(fmt::format("--resume: {}: 'outputs' is not an object", file.string()));
-    const OutputRestorer r(app, j["outputs"], file);
+    const OutputRestorer r(app, saved.outputs, file);
     r.restore("--threads", "threads", cmd.threads);
     if (const std::string why = check_threads(cmd.threads); !why.empty())
       throw UsageError(fmt::format("--resume: {}: threads: {}", file.string(), why));

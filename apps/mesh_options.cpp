@@ -9,6 +9,7 @@
 
 #include "cli_common.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/pvti.h"
 #include "io/vti.h"
@@ -68,6 +69,11 @@ Field load_phi(const std::string& from, const std::string& option,
     } catch (const std::runtime_error& e) {
       throw UsageError(fmt::format("{}: {}", option, e.what()));
     }
+  }
+  try {
+    require_regular_file(path, option);
+  } catch (const std::runtime_error& e) {
+    throw UsageError(e.what());
   }
   if (!std::filesystem::is_regular_file(path))
     throw UsageError(fmt::format("{}: '{}' is neither a run directory with field.vti (or "

@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
 
@@ -132,6 +133,7 @@ std::string self_executable() {
 }
 
 nlohmann::json read_json_file(const fs::path& path) {
+  require_regular_file(path, "JSON file");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
   try {

@@ -12,6 +12,7 @@
 
 #include "io/checkpoint.h"
 #include "io/output_folder.h"
+#include "io/run_report.h"
 #include "parallel/decomposition.h"
 #include "pipeline/cmc.h"
 
@@ -102,8 +103,8 @@ class OutputRestorer {
   void restore(const char* option, const char* key, T& value) const {
     if (app_.count(option) > 0 || !saved_.contains(key)) return;
     try {
-      saved_.at(key).get_to(value);
-    } catch (const nlohmann::json::exception&) {
+      value = json_value<T>(saved_.at(key), key);  // in T's range, never wrapped
+    } catch (const std::runtime_error&) {
       throw_bad(key);
     }
   }

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/run_report.h"
 #include "parallel/agree.h"
 
@@ -148,13 +149,21 @@ class SpanSource final : public Source {
 
 class FileSource final : public Source {
  public:
-  explicit FileSource(const std::filesystem::path& path) : in_(path, std::ios::binary) {
+  explicit FileSource(const std::filesystem::path& path) : in_(open(path)) {
     if (!in_) throw CheckpointError(fmt::format("{}: cannot open", path.string()));
     std::error_code ec;
     size_ = std::filesystem::file_size(path, ec);
     if (ec) throw CheckpointError(fmt::format("{}: {}", path.string(), ec.message()));
   }
   std::uint64_t size() const override { return size_; }
+  static std::ifstream open(const std::filesystem::path& path) {
+    try {
+      require_regular_file(path, "checkpoint");  // before the open: a FIFO would block it
+    } catch (const std::runtime_error& e) {
+      throw CheckpointError(e.what());
+    }
+    return std::ifstream(path, std::ios::binary);
+  }
   void read(void* to, std::size_t n) override {
     if (!in_.read(static_cast<char*>(to), std::streamsize(n)))
       throw std::runtime_error("read error (the file changed while being read?)");

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 
 namespace cmcsurf {
 
@@ -31,6 +32,7 @@ void write_png(const std::filesystem::path& path, const Image& image) {
 }
 
 Image read_png(const std::filesystem::path& path) {
+  require_regular_file(path, "PNG file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
   std::ostringstream bytes;

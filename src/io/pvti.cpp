@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "parallel/agree.h"
 
 namespace cmcsurf {
@@ -115,6 +116,7 @@ struct PvtiFile {
 
 // The .pvti's header, its layout and its pieces' extents and sources checked.
 PvtiFile open_pvti(const fs::path& path, int max_n) {
+  require_regular_file(path, "PVTI file");
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) fail(path, ec.message());
@@ -126,8 +128,11 @@ PvtiFile open_pvti(const fs::path& path, int max_n) {
   PvtiFile f{path, parse_pvti(text, path.string()), 0};
   const auto layout = f.header.metadata.find(kVtiLayoutKey);
   if (layout == f.header.metadata.end() || layout->second != kVtiPeriodicLayout)
-    fail(path, fmt::format("no '{}={}' in a '<!-- cmcsurf' comment; only cmcsurf's periodic "
-                           "layout (N + 1 points per axis, the last the wrap) is supported",
+    fail(path, fmt::format("{} in a '<!-- cmcsurf' comment; only cmcsurf's periodic layout ({}={}: "
+                           "N + 1 points per axis, the last the wrap) is supported",
+                           layout == f.header.metadata.end()
+                               ? fmt::format("no '{}=' line", kVtiLayoutKey)
+                               : fmt::format("{}={}", kVtiLayoutKey, layout->second),
                            kVtiLayoutKey, kVtiPeriodicLayout));
   f.n = int(f.header.whole_extent[1]);
   if (f.n > max_n) fail(path, fmt::format("N = {} exceeds the limit {} of this command", f.n, max_n));
@@ -162,6 +167,50 @@ std::vector<std::pair<std::string, bool>> wanted_arrays(const PvtiFile& f, const
   fail(f.path, fmt::format("no array '{}' (found {})", only, names));
 }
 
+fs::path piece_path(const PvtiFile& f, std::size_t q) {
+  const fs::path folder = f.path.has_parent_path() ? f.path.parent_path() : fs::path(".");
+  return folder / f.header.pieces[q].source;
+}
+
+// Piece q's file is a regular file with at least the bytes its Extent needs for the arrays
+// (a byte count and the values of each), from its size alone.
+void check_piece_file(const PvtiFile& f, std::size_t q,
+                      const std::vector<std::pair<std::string, bool>>& arrays) {
+  const PvtiPiece& p = f.header.pieces[q];
+  const fs::path piece = piece_path(f, q);
+  require_regular_file(piece, fmt::format("piece {} of {}", q, f.path.string()));
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(piece, ec);
+  if (ec)
+    fail(f.path, fmt::format("piece {} '{}' is missing (no file {})", q, p.source, piece.string()));
+  std::uint64_t points = 1;
+  for (int a = 0; a < 3; ++a) points *= std::uint64_t(p.extent[2 * a + 1] - p.extent[2 * a] + 1);
+  std::uint64_t need = 0;
+  for (const auto& [name, float32] : arrays) need += 4 + points * (float32 ? 4 : 8);
+  if (size < need)
+    fail(f.path, fmt::format("piece {} ('{}') has {} bytes; its Extent \"{} {} {} {} {} {}\" "
+                             "needs at least {} for its {} point values",
+                             q, p.source, size, p.extent[0], p.extent[1], p.extent[2],
+                             p.extent[3], p.extent[4], p.extent[5], need, points));
+}
+
+// Before the whole grid is allocated: every piece file holds its Extent's bytes, and the pieces
+// hold at least the grid's cells (so what is allocated is bounded by the files' sizes).
+void check_piece_files(const PvtiFile& f,
+                       const std::vector<std::pair<std::string, bool>>& arrays) {
+  std::uint64_t cells = 0;
+  for (std::size_t q = 0; q < f.header.pieces.size(); ++q) {
+    check_piece_file(f, q, arrays);
+    const Box b = cells_of(f.header.pieces[q]);
+    cells += std::uint64_t(b.hi[0] - b.lo[0]) * (b.hi[1] - b.lo[1]) * (b.hi[2] - b.lo[2]);
+  }
+  const std::uint64_t whole = std::uint64_t(f.n) * f.n * f.n;
+  if (cells < whole)
+    fail(f.path, fmt::format("the pieces hold {} of the grid's {} cells; the pieces must tile "
+                             "the grid (a piece missing from the list?)",
+                             cells, whole));
+}
+
 // Reads the pieces of f that overlap `box` into the fields (all on one block holding `box`),
 // after checking that the pieces tile the box exactly.
 void read_pieces(const PvtiFile& f, const Box& box,
@@ -190,13 +239,9 @@ void read_pieces(const PvtiFile& f, const Box& box,
   std::vector<VtiPieceTarget> targets;
   for (std::size_t a = 0; a < arrays.size(); ++a)
     targets.push_back({arrays[a].first, arrays[a].second, fields[a]});
-  const fs::path folder = f.path.has_parent_path() ? f.path.parent_path() : fs::path(".");
   for (const std::size_t q : overlapping) {
-    const fs::path piece = folder / pieces[q].source;
-    if (!fs::is_regular_file(piece))
-      fail(f.path, fmt::format("piece {} '{}' is missing (no file {})", q, pieces[q].source,
-                               piece.string()));
-    read_vti_piece(piece, pieces[q].extent, targets, f.path.string());
+    check_piece_file(f, q, arrays);
+    read_vti_piece(piece_path(f, q), pieces[q].extent, targets, f.path.string());
   }
 }
 
@@ -296,6 +341,7 @@ VtiData read_pvti(const fs::path& path, const VtiReadOptions& options) {
   if (options.ghost < 0 || options.ghost > f.n)
     throw std::invalid_argument(fmt::format("read_pvti: ghost width {} for N={}", options.ghost, f.n));
   const auto arrays = wanted_arrays(f, options.only);
+  check_piece_files(f, arrays);
   const Box whole{{0, 0, 0}, {f.n, f.n, f.n}};
   std::vector<Field> fields;
   std::vector<Field*> targets;

@@ -146,7 +146,7 @@ TEST(IoPvti, RefusesHostileSummariesNamingTheProblem) {
   EXPECT_EQ(pvti_error(tmp / "h.pvti"), "");
   // Tiling: a gap, an overlap, a piece outside, an empty piece.
   refused(pvti_text("<Piece Extent=\"0 8 0 8 0 4\" Source=\"field/piece_0000.vti\"/>\n"),
-          "no piece holds cell (0, 0, 4)");
+          "the pieces hold 256 of the grid's 512 cells");
   refused(pvti_text(std::string(kWholePiece) + kWholePiece),
           "piece 1 ('field/piece_0000.vti') holds cell (0, 0, 0), which an earlier piece");
   refused(pvti_text("<Piece Extent=\"0 9 0 8 0 8\" Source=\"field/piece_0000.vti\"/>\n"),
@@ -193,6 +193,26 @@ TEST(IoPvti, RefusesHostileSummariesNamingTheProblem) {
   const std::string why = pvti_error(tmp / "field.pvti");
   EXPECT_NE(why.find("piece_0000.vti"), std::string::npos) << why;
   EXPECT_NE(why.find("truncated"), std::string::npos) << why;
+}
+
+TEST(IoPvti, PieceSizesAndLayoutAreCheckedBeforeAllocating) {
+  TempDir tmp;
+  const Field phi = testing::random_field(8, 2, 0, 1, 8);
+  write_pvti(tmp / "field.pvti", {{"phi", &phi}});
+  // A piece file too small for its Extent is refused from its size, before the grid is
+  // allocated or the piece read (a 1 kB summary could otherwise claim N = 8192).
+  const std::string piece = slurp(tmp / "field" / "piece_0000.vti");
+  spit(tmp / "field" / "piece_0000.vti", piece.substr(0, 1000));
+  std::string why = pvti_error(tmp / "field.pvti");
+  EXPECT_NE(why.find("field.pvti"), std::string::npos) << why;
+  EXPECT_NE(why.find("piece 0 ('field/piece_0000.vti') has 1000 bytes"), std::string::npos)
+      << why;
+  spit(tmp / "field" / "piece_0000.vti", piece);
+  EXPECT_EQ(pvti_error(tmp / "field.pvti"), "");
+  // An unknown layout is named.
+  spit(tmp / "h.pvti", pvti_text(kWholePiece, "Float64", "<!-- cmcsurf\nlayout=tiled\n-->\n"));
+  why = pvti_error(tmp / "h.pvti");
+  EXPECT_NE(why.find("layout=tiled"), std::string::npos) << why;
 }
 
 }  // namespace

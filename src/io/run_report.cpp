@@ -60,11 +60,10 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   RunParams p = base;
   auto take = [&](const char* key, auto& value, bool optional = false) {
     if (optional && !j.contains(key)) return;
-    try {
-      j.at(key).get_to(value);
-    } catch (const nlohmann::json::exception& e) {
-      throw std::runtime_error(fmt::format("parameter '{}': {}", key, e.what()));
-    }
+    if (!j.is_object() || !j.contains(key))
+      throw std::runtime_error(fmt::format("parameter '{}' is missing", key));
+    value = json_value<std::remove_cvref_t<decltype(value)>>(j.at(key),
+                                                              fmt::format("parameter '{}'", key));
   };
   auto choose = [&](const char* key, auto& value, auto a, const char* a_name, auto b,
                     const char* b_name) {

@@ -3,13 +3,56 @@
 
 #include <cstdint>
 
+#include <concepts>
 #include <filesystem>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
 #include "pipeline/cmc.h"
 
 namespace cmcsurf {
+
+// A value read from a JSON file (report.json, a checkpoint's or sweep.json's keys) as T, checked
+// instead of converted: an integer type takes only a JSON integer inside T's range (4294967298
+// is not an int, -1 not a seed, 2.5 not a count), a floating type any number, bool a boolean,
+// std::string a string. Anything else throws std::runtime_error "<what>: got ...; accepted: ...".
+template <class T>
+T json_value(const nlohmann::json& v, const std::string& what) {
+  auto refuse = [&](const std::string& accepted) {
+    const std::string got = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    throw std::runtime_error(fmt::format("{}: got {}; accepted: {}", what, got, accepted));
+  };
+  if constexpr (std::same_as<T, bool>) {
+    if (!v.is_boolean()) refuse("true or false");
+    return v.get<bool>();
+  } else if constexpr (std::integral<T>) {
+    using L = std::numeric_limits<T>;
+    const std::string range = fmt::format("an integer in [{}, {}]", L::min(), L::max());
+    if (v.is_number_unsigned()) {
+      const auto u = v.get<std::uint64_t>();
+      if (u > static_cast<std::make_unsigned_t<T>>(L::max())) refuse(range);
+      return static_cast<T>(u);
+    }
+    if (!v.is_number_integer()) refuse(range);
+    const auto s = v.get<std::int64_t>();
+    const bool fits = s < 0 ? std::is_signed_v<T> && s >= std::int64_t(L::min())
+                            : std::uint64_t(s) <= std::uint64_t(L::max());
+    if (!fits) refuse(range);
+    return static_cast<T>(s);
+  } else if constexpr (std::floating_point<T>) {
+    if (!v.is_number()) refuse("a number");
+    return v.get<T>();
+  } else {
+    static_assert(std::same_as<T, std::string>, "json_value: bool, integer, float or string");
+    if (!v.is_string()) refuse("a string");
+    return v.get<std::string>();
+  }
+}
 
 // Every parameter of a run, as the command line names them.
 nlohmann::json params_json(const RunParams& p);

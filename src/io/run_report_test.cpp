@@ -85,5 +85,32 @@ TEST(RunReport, ParametersReadBackExactly) {
   }
 }
 
+TEST(RunReport, IntegersOutsideTheirTypeAreRefusedNotWrapped) {
+  // max_steps 2^32 + 2 used to wrap to 2 in the int it is read into.
+  const nlohmann::json good = params_json(RunParams{});
+  auto why = [&](const char* key, const nlohmann::json& value) -> std::string {
+    nlohmann::json j = good;
+    j[key] = value;
+    try {
+      params_from_json(j);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string wrapped = why("max_steps", 4294967298ull);
+  EXPECT_NE(wrapped.find("'max_steps'"), std::string::npos) << wrapped;
+  EXPECT_NE(wrapped.find("4294967298"), std::string::npos) << wrapped;
+  EXPECT_NE(why("max_steps", -4294967294ll), "");
+  EXPECT_NE(why("grid", 64.5), "");
+  EXPECT_NE(why("grid", 4294967360ull), "");  // 2^32 + 64
+  EXPECT_NE(why("seed", -1), "");
+  EXPECT_NE(why("seed", 1.5), "");
+  EXPECT_NE(why("pre_sweeps", 4294967298ull), "");
+  EXPECT_NE(why("extrapolate", 1), "");
+  EXPECT_EQ(why("seed", 18446744073709551615ull), "");
+  EXPECT_EQ(why("dt_factor", 1), "");  // an integer is a number
+}
+
 }  // namespace
 }  // namespace cmcsurf

@@ -24,6 +24,7 @@
 #include <fmt/core.h>
 
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 
 namespace cmcsurf {
 
@@ -424,10 +425,12 @@ class HeaderParser final : public XmlHeaderScanner {
   const Extent& extent() const { return extent_; }
   int header_bytes() const { return header_bytes_; }
   const std::vector<ArrayInfo>& arrays() const { return arrays_; }
+  const std::vector<std::uint64_t>& field_data_offsets() const { return field_data_offsets_; }
 
  protected:
   void reset() override {
     arrays_.clear();
+    field_data_offsets_.clear();
     have_extent_ = false;
     extent_ = {};
     header_bytes_ = 0;
@@ -478,7 +481,19 @@ class HeaderParser final : public XmlHeaderScanner {
   }
 
   void on_dataarray(const Tag& tag, const std::string& parent) {
-    if (parent == "FieldData") return;  // metadata copies; the comment is authoritative
+    if (parent == "FieldData") {  // metadata copies; the comment is authoritative
+      // Appended ones still take bytes of <AppendedData>: the tail check steps over them.
+      const std::string* format = attr(tag, "format");
+      const std::string* off = attr(tag, "offset");
+      std::uint64_t offset = 0;
+      if (format && *format == "appended") {
+        if (!off ||
+            std::from_chars(off->data(), off->data() + off->size(), offset).ec != std::errc())
+          fail("an appended FieldData DataArray has no valid offset attribute");
+        field_data_offsets_.push_back(offset);
+      }
+      return;
+    }
     const std::string* name_attr = attr(tag, "Name");
     const std::string name = name_attr ? *name_attr : "(unnamed)";
     if (parent == "CellData")
@@ -522,6 +537,7 @@ class HeaderParser final : public XmlHeaderScanner {
 
   bool cubic_;
   std::vector<ArrayInfo> arrays_;
+  std::vector<std::uint64_t> field_data_offsets_;
   Extent extent_{};
   bool have_extent_ = false;
   int header_bytes_ = 0;
@@ -776,6 +792,7 @@ VtiData read_vti(const std::filesystem::path& path, int ghost) {
 }
 
 VtiData read_vti(const std::filesystem::path& path, const VtiReadOptions& options) {
+  require_regular_file(path, "VTI file");
   HeaderParser parser(path.string());
   std::error_code ec;
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
@@ -833,9 +850,10 @@ std::pair<std::uint64_t, std::uint64_t> byte_range(const HeaderParser& parser, c
 }
 
 // Every array's bytes (its byte count, then m[0] m[1] m[2] values) lie in the file, and no two
-// arrays share bytes.
-void check_byte_ranges(const HeaderParser& parser, const std::array<int, 3>& m,
-                       std::uint64_t file_size) {
+// arrays share bytes. Returns the last one's end and name.
+std::pair<std::uint64_t, std::string> check_byte_ranges(const HeaderParser& parser,
+                                                        const std::array<int, 3>& m,
+                                                        std::uint64_t file_size) {
   const int hb = parser.header_bytes();
   struct Range {
     std::uint64_t begin, end;
@@ -859,6 +877,70 @@ void check_byte_ranges(const HeaderParser& parser, const std::array<int, 3>& m,
     if (ranges[q].begin < ranges[q - 1].end)
       parser.fail(fmt::format("arrays '{}' and '{}' overlap in the appended data",
                               ranges[q - 1].name, ranges[q].name));
+  const auto last = std::max_element(
+      ranges.begin(), ranges.end(), [](const Range& x, const Range& y) { return x.end < y.end; });
+  return {last->end, last->name};
+}
+
+// A layout key, if any, is cmcsurf's periodic one: another value is not "no wrap".
+void check_layout(const HeaderParser& parser, const std::map<std::string, std::string>& metadata) {
+  const auto layout = metadata.find(kVtiLayoutKey);
+  if (layout != metadata.end() && layout->second != kVtiPeriodicLayout)
+    parser.fail(fmt::format("{}={} in the '<!-- cmcsurf' comment is not a layout cmcsurf knows; "
+                            "accepted: {}={} (N + 1 points per axis, the last the wrap) or no {} "
+                            "line (N points per axis)",
+                            kVtiLayoutKey, layout->second, kVtiLayoutKey, kVtiPeriodicLayout,
+                            kVtiLayoutKey));
+}
+
+// After the arrays' bytes (data_end, and any appended FieldData) the file holds only the
+// closing tags: data short of its byte counts would otherwise read the tags as values.
+void check_tail(std::istream& in, const HeaderParser& parser,
+                std::pair<std::uint64_t, std::string> last, std::uint64_t file_size) {
+  auto& [data_end, name] = last;
+  const int hb = parser.header_bytes();
+  for (const std::uint64_t offset : parser.field_data_offsets()) {
+    const std::uint64_t begin = parser.data_start() + offset;
+    if (offset > file_size || begin + hb > file_size)
+      parser.fail(fmt::format("a FieldData array has offset {} beyond the end of the file ({} "
+                              "bytes)", offset, file_size));
+    std::uint64_t count = 0;
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(begin));
+    in.read(reinterpret_cast<char*>(&count), hb);
+    if (!in || count > file_size - begin - hb)
+      parser.fail(fmt::format("a FieldData array at offset {} has a byte count of {} beyond the "
+                              "end of the file ({} bytes)", offset, count, file_size));
+    if (begin + hb + count > data_end) {
+      data_end = begin + hb + count;
+      name = "(FieldData)";
+    }
+  }
+  constexpr std::uint64_t kMaxTail = 4096;
+  const std::uint64_t size = file_size - data_end;
+  std::string tail(std::size_t(std::min(size, kMaxTail)), '\0');
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(data_end));
+  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
+  if (!in) parser.fail(fmt::format("read error after the appended data: {}", std::strerror(errno)));
+  std::size_t p = 0;
+  auto skip_space = [&] {
+    while (p < tail.size() && std::isspace(static_cast<unsigned char>(tail[p]))) ++p;
+  };
+  auto take = [&](std::string_view word) {
+    skip_space();
+    if (tail.compare(p, word.size(), word) != 0) return false;
+    p += word.size();
+    return true;
+  };
+  const bool closed = size <= kMaxTail && take("</AppendedData>") && take("</VTKFile>");
+  skip_space();
+  if (!closed || p != tail.size())
+    parser.fail(fmt::format(
+        "the appended data should end with array '{}' at byte {} (the arrays' byte counts), "
+        "followed by </AppendedData> and </VTKFile> alone, but {} bytes follow there starting "
+        "\"{}\" (the data is shorter or longer than its byte counts say)",
+        name, data_end, size, comment_escape(tail.substr(0, 24), false)));
 }
 
 // Reads array a (m points per axis; cells and first as read_values takes them) into f.
@@ -891,8 +973,8 @@ VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser&
   read_header(in, parser);
   // m points per axis; with cmcsurf's periodic layout they are the N cells plus the wrap.
   const int m = parser.n();
-  const auto layout = parser.metadata().find(kVtiLayoutKey);
-  const bool wrapped = layout != parser.metadata().end() && layout->second == kVtiPeriodicLayout;
+  check_layout(parser, parser.metadata());
+  const bool wrapped = parser.metadata().contains(kVtiLayoutKey);
   if (wrapped && m < 2) parser.fail("a periodic layout needs at least 2 points per axis");
   const int n = wrapped ? m - 1 : m;
   if (n > options.max_n)
@@ -912,7 +994,7 @@ VtiData read_vti_stream(std::istream& in, std::uint64_t file_size, HeaderParser&
   } else {
     wanted = parser.arrays();
   }
-  check_byte_ranges(parser, {m, m, m}, file_size);
+  check_tail(in, parser, check_byte_ranges(parser, {m, m, m}, file_size), file_size);
 
   VtiData result;
   result.n = n;
@@ -943,6 +1025,7 @@ PvtiHeader parse_pvti(std::string_view text, const std::string& source) {
 
 void read_vti_piece(const std::filesystem::path& path, const std::array<long long, 6>& extent,
                     const std::vector<VtiPieceTarget>& targets, const std::string& pvti) {
+  require_regular_file(path, fmt::format("piece of {}", pvti));
   HeaderParser parser(path.string(), false);
   std::error_code ec;
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
@@ -950,6 +1033,7 @@ void read_vti_piece(const std::filesystem::path& path, const std::array<long lon
   std::ifstream in(path, std::ios::binary);
   if (!in) parser.fail(fmt::format("{} (a piece of {})", std::strerror(errno), pvti));
   read_header(in, parser);
+  check_layout(parser, parser.metadata());
   if (parser.extent() != extent)
     parser.fail(fmt::format("its extent \"{}\" differs from the Extent=\"{}\" that {} gives it",
                             extent_text(parser.extent()), extent_text(extent), pvti));
@@ -960,7 +1044,7 @@ void read_vti_piece(const std::filesystem::path& path, const std::array<long lon
     cells[a] = m[a] - 1;  // the last points are the next piece's first ones, or the wrap
     first[a] = extent[2 * a];
   }
-  check_byte_ranges(parser, m, file_size);
+  check_tail(in, parser, check_byte_ranges(parser, m, file_size), file_size);
   std::vector<char> bytes;
   for (const VtiPieceTarget& t : targets) {
     const auto it = std::find_if(parser.arrays().begin(), parser.arrays().end(),

@@ -422,6 +422,37 @@ TEST(IoVtiBadData, OffsetWrappingPastTheEndIsRefused) {
   expect_read_error(path, {"'phi'", "offset " + wrapped, "beyond the end of the file"});
 }
 
+TEST(IoVtiBadData, UnknownLayoutIsRefused) {
+  // layout= is cmcsurf's own key: an unknown value must not be read as "no wrap".
+  TempDir tmp;
+  const Field phi = random_field(4, 12);
+  const auto path = tmp / "layout.vti";
+  write_vti(path, {{"phi", &phi}});
+  std::string text = slurp(path);
+  const std::string ours = "layout=periodic\n";
+  ASSERT_NE(text.find(ours), std::string::npos);
+  write_file_atomic(path, text.replace(text.find(ours), ours.size(), "layout=tiled\n"));
+  expect_read_error(path, {"layout=tiled", "layout=periodic"});
+}
+
+TEST(IoVtiBadData, DataShortOfItsClosingTagsIsRefused) {
+  // 8 bytes missing from the appended data: the closing tags would be read as the last value.
+  TempDir tmp;
+  const Field phi = random_field(4, 13);
+  const auto path = tmp / "short.vti";
+  write_vti(path, {{"phi", &phi}});
+  std::string text = slurp(path);
+  const std::size_t tail = text.rfind("\n  </AppendedData>");
+  ASSERT_NE(tail, std::string::npos);
+  write_file_atomic(path, text.erase(tail - 8, 8));
+  expect_read_error(path, {"'phi'", "</AppendedData>"});
+  // Trailing bytes after the closing tags are refused too; the exact file reads.
+  write_vti(path, {{"phi", &phi}});
+  EXPECT_NO_THROW(read_vti(path));
+  write_file_atomic(path, slurp(path) + "junk");
+  expect_read_error(path, {"</VTKFile>"});
+}
+
 TEST(IoVti, ParseFromMemoryIsTheFileReader) {
   TempDir tmp;
   const Field phi = random_field(6, 8), mu = random_field(6, 9);

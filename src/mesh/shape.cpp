@@ -16,11 +16,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/input_file.h"
 #include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
 TriMesh read_stl(const std::filesystem::path& path) {
+  require_regular_file(path, "STL file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot open '{}'", path.string()));
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});

@@ -108,8 +108,8 @@ void check_run_params(const RunParams& p, bool check_surface) {
                                     p.coarse_levels, p.surface));
   }
   // The bound first: the sizes m 2^k that coarsenable suggests are of no use beyond it.
-  require(p.grid <= 2048, "--grid", p.grid, "N <= 2048");
-  const std::string grid_problem = check_coarsenable(p.grid);
+  require(p.grid <= kMaxGrid, "--grid", p.grid, fmt::format("N <= {}", kMaxGrid).c_str());
+  const std::string grid_problem = check_coarsenable(p.grid);  // after the bound: no overflow
   if (!grid_problem.empty()) throw OptionError("--grid: " + grid_problem);
   if (const std::string why = check_fraction_on_grid(p.volume_fraction, p.grid);
       check_surface && !why.empty())

@@ -31,6 +31,9 @@ struct RunChoices {
   bool mg_rtol_finest_given = false;
 };
 
+// --grid's upper bound (the verify experiments' grids share it).
+constexpr int kMaxGrid = 2048;
+
 // What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
 // V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h, and each
 // relaxation ended once it has settled to 1e-5, and the finest grid's V-cycles to 1e-1.

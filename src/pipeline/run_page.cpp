@@ -11,6 +11,7 @@
 
 #include "common/wall_clock.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
 #include "io/png.h"
 #include "io/pvti.h"
 #include "io/report_html.h"
@@ -25,6 +26,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string read_text(const fs::path& path) {
+  require_regular_file(path, "input file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
   std::ostringstream s;
@@ -173,7 +175,8 @@ double write_sweep_page(const fs::path& dir) {
       "<th>nodal area excess</th><th>steps</th></tr>\n";
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
-      const std::string name = member_name(surfaces[si], int(si), alpha);
+      const std::string name =
+          checked_member_name(surfaces[si], int(si), alpha, summary_path.string());
       const fs::path member = dir / name;
       const nlohmann::json report = read_json_file(member / "report.json");
       const double h = number_or(report, "mean_curvature", 0.0);
@@ -280,7 +283,8 @@ double write_gallery_from_folder(const fs::path& dir) {
   std::vector<GalleryMember> members;
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
-      const std::string name = member_name(surfaces[si], int(si), alpha);
+      const std::string name =
+          checked_member_name(surfaces[si], int(si), alpha, summary_path.string());
       members.push_back(gallery_member_from_folder(dir / name, surfaces[si], name, alpha));
     }
   write_gallery(dir, members);

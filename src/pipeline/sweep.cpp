@@ -10,9 +10,11 @@
 #include <stdexcept>
 
 #include "common/wall_clock.h"
+#include "io/run_report.h"
 #include "measure/measures.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/run_options.h"
 #include "surfaces/nodal_level.h"
 #include "surfaces/initial.h"
@@ -166,6 +168,131 @@ std::string member_name(const std::string& surface, int surface_index, double al
   std::string a = fmt::format("{:.2f}", alpha);
   if (std::abs(std::stod(a) - alpha) > 1e-12) a = fmt::format("{:.6g}", alpha);
   return base + "_" + a;
+}
+
+void check_member_name(const std::string& name, const std::string& source) {
+  static constexpr const char* kAllowed =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.+-";
+  const bool plain = !name.empty() && name.size() <= 255 && name != "." && name != ".." &&
+                     name.find_first_not_of(kAllowed) == std::string::npos;
+  if (!plain) {
+    std::string shown;  // control characters and NUL made visible
+    for (const char c : name)
+      shown += static_cast<unsigned char>(c) < 0x20 ? fmt::format("\\x{:02x}", int(c))
+                                                    : std::string(1, c);
+    throw std::invalid_argument(fmt::format(
+        "'{}': member name '{}' is not a plain folder name; a sweep's members are folders "
+        "directly inside it, named like G_0.30 (letters, digits and _.+- only)",
+        source, shown));
+  }
+}
+
+std::string checked_member_name(const std::string& surface, int surface_index, double alpha,
+                                const std::string& source) {
+  std::string name = member_name(surface, surface_index, alpha);
+  check_member_name(name, source);
+  return name;
+}
+
+SweepJson parse_sweep_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::invalid_argument("the file holds no JSON object");
+  auto convert = [](const nlohmann::json& v, auto& value, const std::string& what) {
+    try {
+      value = json_value<std::remove_cvref_t<decltype(value)>>(v, what);
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(e.what());
+    }
+  };
+  // Key of object o (`where` its path in messages); missing is an error unless optional.
+  auto read = [&](const nlohmann::json& o, const std::string& where, const char* key,
+                  auto& value, bool optional = false) {
+    if (!o.contains(key)) {
+      if (optional) return false;
+      throw std::invalid_argument(fmt::format("'{}{}' is missing", where, key));
+    }
+    convert(o.at(key), value, fmt::format("'{}{}'", where, key));
+    return true;
+  };
+  auto list = [](const nlohmann::json& o, const char* key) -> const nlohmann::json& {
+    if (!o.contains(key) || !o.at(key).is_array())
+      throw std::invalid_argument(fmt::format(
+          "'{}' is {}; accepted: a list", key,
+          o.contains(key) ? o.at(key).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+                          : "missing"));
+    if (o.at(key).size() > std::size_t(kMaxMembers))
+      throw std::invalid_argument(fmt::format("'{}' holds {} entries; accepted: at most {}", key,
+                                              o.at(key).size(), kMaxMembers));
+    return o.at(key);
+  };
+  SweepJson out;
+  SweepParams& sp = out.sweep;
+  for (const nlohmann::json& s : list(j, "surfaces")) {
+    const std::string what = fmt::format("'surfaces[{}]'", sp.surfaces.size());
+    convert(s, sp.surfaces.emplace_back(), what);
+  }
+  for (const nlohmann::json& v : list(j, "volume_fractions")) {
+    const std::string what = fmt::format("'volume_fractions[{}]'", sp.fractions.size());
+    convert(v, sp.fractions.emplace_back(), what);
+  }
+  read(j, "", "continuation", sp.continuation);
+  if (!j.contains("parameters"))
+    throw std::invalid_argument("'parameters' is missing");
+  try {
+    sp.run = params_from_json(j.at("parameters"));
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(fmt::format("'parameters': {}", e.what()));
+  }
+  check_sweep_params(sp);  // surfaces, fractions, the run's ranges
+  for (std::size_t s = 0; s < sp.surfaces.size(); ++s)
+    for (double alpha : sp.fractions)
+      checked_member_name(sp.surfaces[s], int(s), alpha, "surfaces");
+  // Informational keys: in range when present.
+  const std::size_t total = sp.surfaces.size() * sp.fractions.size();
+  std::size_t members = 0;
+  if (read(j, "", "members", members, true) && members > total)
+    throw std::invalid_argument(fmt::format("'members': got {}; accepted: 0 to the {} members of "
+                                            "the sweep", members, total));
+  int threads = 0;
+  if (read(j, "", "threads", threads, true))
+    if (const std::string why = check_threads(threads); !why.empty())
+      throw std::invalid_argument(fmt::format("'threads': {}", why));
+  double wall = 0.0;
+  if (read(j, "", "wall_seconds", wall, true) && !(wall >= 0.0 && wall <= 1e12))
+    throw std::invalid_argument(fmt::format("'wall_seconds': got {}; accepted: 0 to 1e12", wall));
+  if (j.contains("mpi")) {
+    const nlohmann::json& mpi = j.at("mpi");
+    if (!mpi.is_object()) throw std::invalid_argument("'mpi' is not an object");
+    for (const char* key : {"ranks", "groups", "ranks_per_group"}) {
+      int v = 1;
+      if (read(mpi, "mpi.", key, v, true) && v < 1)
+        throw std::invalid_argument(fmt::format("'mpi.{}': got {}; accepted: >= 1", key, v));
+    }
+  }
+  // The output options a resume may restore; python and plot_script only checked, not returned.
+  if (!j.contains("outputs")) return out;
+  const nlohmann::json& o = j.at("outputs");
+  if (!o.is_object()) throw std::invalid_argument("'outputs' is not an object");
+  if (read(o, "outputs.", "threads", threads, true)) {
+    if (const std::string why = check_threads(threads); !why.empty())
+      throw std::invalid_argument(fmt::format("'outputs.threads': {}", why));
+    out.outputs["threads"] = threads;
+  }
+  for (const char* key : {"float32", "no_preview", "no_report", "no_plot"}) {
+    bool flag = false;
+    if (read(o, "outputs.", key, flag, true)) out.outputs[key] = flag;
+  }
+  double every = 0.0;
+  if (read(o, "outputs.", "checkpoint_every", every, true)) {
+    if (!(every >= 0.0 && every <= 1e9))
+      throw std::invalid_argument(
+          fmt::format("'outputs.checkpoint_every': got {}; accepted: 0 to 1e9 seconds", every));
+    out.outputs["checkpoint_every"] = every;
+  }
+  for (const char* key : {"python", "plot_script"}) {
+    std::string ignored;
+    read(o, "outputs.", key, ignored, true);
+  }
+  return out;
 }
 
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,

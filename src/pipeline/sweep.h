@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "measure/quality.h"
 #include "pipeline/cmc.h"
 
@@ -24,12 +26,35 @@ std::vector<std::string> parse_surface_list(const std::string& spec);
 // named "expr<k>" by their position k in the list.
 std::string member_name(const std::string& surface, int surface_index, double alpha);
 
+// A member name read back (from sweep.json's surfaces and fractions) before it is joined onto
+// the sweep's folder: one plain path component as member_name makes them (letters, digits and
+// "_.+-", not "." or "..", at most 255 bytes), so never "../x/G_0.30" or "/abs". Throws
+// std::invalid_argument naming `source` (the file it came from) and the name.
+void check_member_name(const std::string& name, const std::string& source);
+// member_name, checked as above.
+std::string checked_member_name(const std::string& surface, int surface_index, double alpha,
+                                const std::string& source);
+
 struct SweepParams {
   RunParams run;  // surface and volume_fraction are set per member
   std::vector<std::string> surfaces;
   std::vector<double> fractions;
   bool continuation = false;  // start each member from the previous one of its family
 };
+
+// sweep.json read back (sweep --resume): the sweep (surfaces, volume_fractions, continuation,
+// parameters as params_from_json reads them, all of it passing check_sweep_params, every member
+// name passing check_member_name) and the output options a resume may restore: of "outputs",
+// threads, float32, no_preview, no_report, no_plot and checkpoint_every where present, each
+// checked (type, range; integers never wrapped). "python" and "plot_script" are never returned:
+// a resumed sweep does not take an executable from a file. The informational keys (members,
+// threads, wall_seconds, mpi) are type- and range-checked too; other keys are ignored. Throws
+// std::invalid_argument naming the key and what is accepted.
+struct SweepJson {
+  SweepParams sweep;
+  nlohmann::json outputs = nlohmann::json::object();
+};
+SweepJson parse_sweep_json(const nlohmann::json& j);
 
 // The checks parse_surface_list, parse_volume_fractions and check_run_params (without the
 // per-member surface and fraction) make, on a sweep read back from sweep.json: at least one

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <functional>
 
+#include "io/run_report.h"
+
 namespace cmcsurf {
 namespace {
 
@@ -84,6 +86,98 @@ struct GyroidPair {
 const GyroidPair& gyroid_pair() {
   static const GyroidPair pair;
   return pair;
+}
+
+TEST(Sweep, MemberNamesReadBackArePlainFolderNames) {
+  check_member_name("G_0.30", "sweep.json");
+  check_member_name("expr2_0.325", "sweep.json");
+  check_member_name("DoubleP_1e-05", "sweep.json");
+  const std::vector<std::string> bads = {"../victim/G_0.30", "/etc/G_0.30", "a/b", "..", ".", "",
+                                         std::string("G\0_0.30", 8), "G_0.30\n",
+                                         std::string(256, 'G')};
+  for (const std::string& bad : bads) {
+    try {
+      check_member_name(bad, "DIR/sweep.json");
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const std::invalid_argument& e) {
+      const std::string why = e.what();
+      EXPECT_NE(why.find("DIR/sweep.json"), std::string::npos) << why;
+      EXPECT_NE(why.find("member name"), std::string::npos) << why;
+    }
+  }
+  EXPECT_THROW(checked_member_name("../victim/G", 0, 0.3, "sweep.json"), std::invalid_argument);
+  EXPECT_EQ(checked_member_name("expr:cos(x)/2", 1, 0.5, "sweep.json"), "expr1_0.50");
+}
+
+// A sweep.json as cmd_sweep writes it (the parameters are the run defaults at grid 16).
+nlohmann::json sweep_json() {
+  RunParams p;
+  p.grid = 16;
+  nlohmann::json params = params_json(p);
+  params.erase("surface");
+  params.erase("volume_fraction");
+  return {{"members", 2},
+          {"surfaces", {"G"}},
+          {"volume_fractions", {0.3, 0.5}},
+          {"continuation", true},
+          {"threads", 2},
+          {"wall_seconds", 1.5},
+          {"version", "x"},
+          {"parameters", params},
+          {"outputs",
+           {{"threads", 2},
+            {"float32", true},
+            {"no_preview", false},
+            {"no_report", true},
+            {"no_plot", true},
+            {"python", "/tmp/evil"},
+            {"plot_script", "/tmp/evil.py"},
+            {"checkpoint_every", 60.0}}}};
+}
+
+TEST(Sweep, ParsesSweepJsonWithoutExecutables) {
+  const SweepJson s = parse_sweep_json(sweep_json());
+  EXPECT_EQ(s.sweep.surfaces, std::vector<std::string>{"G"});
+  EXPECT_EQ(s.sweep.fractions, (std::vector<double>{0.3, 0.5}));
+  EXPECT_TRUE(s.sweep.continuation);
+  EXPECT_EQ(s.sweep.run.grid, 16);
+  EXPECT_EQ(s.outputs.value("threads", 0), 2);
+  EXPECT_EQ(s.outputs.value("checkpoint_every", 0.0), 60.0);
+  EXPECT_TRUE(s.outputs.value("float32", false));
+  EXPECT_FALSE(s.outputs.contains("python"));
+  EXPECT_FALSE(s.outputs.contains("plot_script"));
+}
+
+TEST(Sweep, SweepJsonOutOfRangeNamesTheKey) {
+  auto refused = [](const std::function<void(nlohmann::json&)>& edit, const std::string& key) {
+    nlohmann::json j = sweep_json();
+    edit(j);
+    try {
+      parse_sweep_json(j);
+      ADD_FAILURE() << "accepted " << j.dump();
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  refused([](auto& j) { j["parameters"]["max_steps"] = 4294967298ull; }, "'max_steps'");
+  refused([](auto& j) { j["parameters"]["grid"] = 16.5; }, "'grid'");
+  refused([](auto& j) { j["outputs"]["threads"] = 4294967298ull; }, "'outputs.threads'");
+  refused([](auto& j) { j["outputs"]["threads"] = 5000; }, "'outputs.threads'");
+  refused([](auto& j) { j["outputs"]["checkpoint_every"] = -1; }, "'outputs.checkpoint_every'");
+  refused([](auto& j) { j["outputs"]["float32"] = 1; }, "'outputs.float32'");
+  refused([](auto& j) { j["outputs"]["python"] = 3; }, "'outputs.python'");
+  refused([](auto& j) { j["outputs"] = 3; }, "'outputs'");
+  refused([](auto& j) { j["members"] = 3; }, "'members'");
+  refused([](auto& j) { j["members"] = -1; }, "'members'");
+  refused([](auto& j) { j["threads"] = -1; }, "'threads'");
+  refused([](auto& j) { j["wall_seconds"] = -1; }, "'wall_seconds'");
+  refused([](auto& j) { j["continuation"] = "yes"; }, "'continuation'");
+  refused([](auto& j) { j["volume_fractions"][1] = "0.5"; }, "'volume_fractions[1]'");
+  refused([](auto& j) { j["volume_fractions"][1] = 1.5; }, "1.5");
+  refused([](auto& j) { j["surfaces"][0] = 7; }, "'surfaces[0]'");
+  refused([](auto& j) { j["surfaces"][0] = "../victim/G"; }, "../victim/G");
+  refused([](auto& j) { j.erase("parameters"); }, "'parameters'");
+  refused([](auto& j) { j["mpi"] = {{"ranks", 0}}; }, "'mpi.ranks'");
 }
 
 TEST(Sweep, BalancedSurfaceIsSymmetricInVolumeFraction) {

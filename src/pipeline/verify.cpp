@@ -9,10 +9,20 @@
 #include <stdexcept>
 
 #include "measure/measures.h"
+#include "multigrid/fas.h"
+#include "pipeline/run_options.h"
 #include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
+
+std::string check_verify_grid(int n) {
+  if (n > kMaxGrid)  // first: check_coarsenable searches upwards from n
+    return fmt::format("got {}; accepted: 8 <= N <= {} (as run --grid), N = m * 2^k with m in "
+                       "{{1, 3, 5, 7}} and k >= 2",
+                       n, kMaxGrid);
+  return check_coarsenable(n);
+}
 
 double epsilon_for_cells(int m, int n) {
   return (1.0 / n) * m / (4.0 * std::sqrt(2.0) * std::atanh(0.9));
@@ -20,6 +30,12 @@ double epsilon_for_cells(int m, int n) {
 
 TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::uint64_t seed,
                                               const ProgressFn& progress) {
+  if (const std::string why = check_verify_grid(n); !why.empty())
+    throw std::invalid_argument("verify_transition_layer: grid " + why);
+  if (m < 1 || !(t_end > 0.0 && t_end <= 1e6))
+    throw std::invalid_argument(
+        fmt::format("verify_transition_layer: m = {}, t_end = {}; accepted: m >= 1, 0 < t <= 1e6",
+                    m, t_end));
   TransitionLayerResult out;
   out.m = m;
   out.n = n;
@@ -173,6 +189,8 @@ double axis_to_diagonal_radius(const Field& phi, double* mean_radius) {
 
 CubeToSphereResult verify_cube_to_sphere(int n, double epsilon, int max_steps, double tol,
                                          const ProgressFn& progress) {
+  if (const std::string why = check_verify_grid(n); !why.empty())
+    throw std::invalid_argument("verify_cube_to_sphere: grid " + why);
   const RunParams p = direct_relaxation("cube", n, epsilon, tol, max_steps);
   InitialFieldParams init;
   init.surface = "cube";

@@ -31,7 +31,14 @@ expect 1 "field.vti" "$work/badvti"
 cp -r "$work/run" "$work/nohist"
 rm "$work/nohist/history.csv"
 expect 1 "history.csv" "$work/nohist"
-for d in empty badjson badvti nohist; do
+# A sweep.json whose surface makes a member name outside the sweep folder: refused, and the
+# folder it names is not read (a complete run sits there, so following the name would succeed).
+mkdir -p "$work/victim" "$work/escape"
+cp -r "$work/run" "$work/victim/P_0.50"
+echo '{"surfaces": ["../victim/P"], "volume_fractions": [0.5]}' >"$work/escape/sweep.json"
+expect 1 "sweep.json.*member name '../victim/P_0.50'" "$work/escape"
+if compgen -G "$work/escape/gallery.png*" >/dev/null; then echo "FAIL: escape: wrote gallery.png"; fail=1; fi
+for d in empty badjson badvti nohist escape; do
   if compgen -G "$work/$d/report.html*" >/dev/null; then echo "FAIL: $d: wrote report.html"; fail=1; fi
 done
 [ "$fail" -eq 0 ] && echo "report_bad_input: all passed"

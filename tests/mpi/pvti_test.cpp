@@ -222,7 +222,8 @@ TEST(Pvti, RefusesSummariesThatDoNotMatchTheirPieces) {
       EXPECT_NE(why.find(fragment), std::string::npos) << "want '" << fragment << "' in: " << why;
     };
     ASSERT_EQ(pvti_error(tmp / "field.pvti"), "");
-    refused(std::string(good).erase(second, end_second - second), "no piece holds cell");
+    refused(std::string(good).erase(second, end_second - second),
+            "cells; the pieces must tile the grid");
     refused(std::string(good).replace(second, end_second - second, line0),
             "holds cell (0, 0, 0), which an earlier piece holds too");
     // Sources swapped: each file's own extent differs from the one the summary gives it.
