@@ -29,8 +29,8 @@ from . import _cmcsurf
 from ._cmcsurf import Mesh, Result, SolverDiverged
 
 __all__ = [
-    "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "relax", "run",
-    "surfaces", "sweep", "__version__",
+    "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
+    "relax", "run", "surfaces", "sweep", "__version__",
 ]
 
 __version__: str = _cmcsurf.version()
@@ -312,6 +312,48 @@ def mesh(
                "keep_fragments": keep_fragments,
                "accept_topology_change": accept_topology_change}
     return _cmcsurf.mesh(source, options, threads)
+
+
+def properties(
+    source: Union[Result, Any],
+    solid: str = "network",
+    *,
+    phase: int = 1,
+    porosity: Optional[float] = None,
+    thickness: Optional[float] = None,
+    material: Optional[Tuple[float, float]] = None,
+    compare_nodal: bool = False,
+    grid_check: bool = False,
+    only: Union[str, Tuple[str, ...]] = ("elastic", "conductivity"),
+    tolerance: float = 1e-5,
+    cell_size: float = 1.0,
+    units: str = "cell",
+    surface: Optional[str] = None,
+    threads: int = 0,
+) -> Dict[str, Any]:
+    """Effective stiffness and conductivities of a :class:`Result`'s (or an (N, N, N) field's)
+    network or sheet solid, as ``cmcsurf properties``: returns the dict of its FILE.json
+    (``stiffness_voigt`` normalised by E_s, ``youngs_modulus``, ``shear_modulus``,
+    ``poisson_ratio``, ``bulk_modulus``, ``zener_ratio``, ``conductivity_solid``,
+    ``conductivity_pore``, ``tortuosity_pore``, ``hashin_shtrikman_upper``,
+    ``fraction_of_bound``, ...; docs/properties.md). ``solid`` "network" (phase ``phase``) or
+    "sheet" (a wall of ``thickness`` in ``units`` of ``cell_size`` per cell, or at
+    ``porosity``); ``material`` (E_GPa, nu) adds the moduli in GPa; ``compare_nodal`` adds the
+    nodal part at the same porosity (``surface`` names the formula for a plain array);
+    ``grid_check`` adds ``*_error`` keys from N/2.
+    """
+    options: Dict[str, Any] = {"solid": solid, "phase": phase, "porosity": porosity,
+                               "thickness": thickness, "compare_nodal": compare_nodal,
+                               "grid_check": grid_check, "only": only, "tolerance": tolerance,
+                               "cell_size": cell_size, "units": units, "surface": surface}
+    if material is not None:
+        try:
+            e, nu = material
+        except (TypeError, ValueError):
+            raise TypeError(f"material: got {material!r}; accepted: (E_GPa, nu)") from None
+        options["youngs_modulus_gpa"] = e
+        options["poisson_ratio"] = nu
+    return _cmcsurf.properties(source, options, threads)
 
 
 def default_options() -> Dict[str, Any]:
