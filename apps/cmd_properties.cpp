@@ -66,49 +66,18 @@ void parse_material(const std::string& text, PropertiesRequest& r) {
 
 PropertiesRequest request_of(const PropertiesCommand& cmd) {
   PropertiesRequest r;
-  if (cmd.solid == "network")
-    r.solid.kind = SolidKind::kNetwork;
-  else if (cmd.solid == "sheet")
-    r.solid.kind = SolidKind::kSheet;
-  else
-    throw UsageError(fmt::format("--solid: got '{}'; accepted: network, sheet", cmd.solid));
-  if (cmd.phase != 1 && cmd.phase != 2)
-    throw UsageError(fmt::format("--phase: got {}; accepted: 1, 2", cmd.phase));
-  r.solid.other_phase = cmd.phase == 2;
-  const bool porosity = !std::isnan(cmd.porosity), thickness = !std::isnan(cmd.thickness);
-  if (r.solid.kind == SolidKind::kNetwork && (porosity || thickness))
-    throw UsageError(fmt::format(
-        "{}: a network's porosity is its member's (1 - the volume fraction of its phase); "
-        "compute the member at the porosity you want (run --volume-fraction), or use --solid "
-        "sheet",
-        porosity ? "--porosity" : "--thickness"));
-  if (r.solid.kind == SolidKind::kSheet && porosity == thickness)
-    throw UsageError("--solid sheet: give exactly one of --porosity P and --thickness T");
-  if (porosity && !(cmd.porosity > 0.0 && cmd.porosity < 1.0))
-    throw UsageError(fmt::format("--porosity: got {}; accepted: 0 < P < 1", cmd.porosity));
-  if (thickness && !(cmd.thickness > 0.0 && cmd.thickness < 0.5 * cmd.cell_size))
-    throw UsageError(fmt::format("--thickness: got {}; accepted: 0 < T < {} (half a cell of "
-                                 "--cell-size {})",
-                                 cmd.thickness, 0.5 * cmd.cell_size, cmd.cell_size));
-  r.solid.porosity = porosity ? cmd.porosity : NAN;
-  r.solid.thickness = thickness ? cmd.thickness : 0.0;
-  parse_material(cmd.material, r);
-  r.elastic = r.conductivity = false;
-  std::stringstream parts(cmd.only);
-  for (std::string part; std::getline(parts, part, ',');) {
-    if (part == "elastic")
-      r.elastic = true;
-    else if (part == "conductivity")
-      r.conductivity = true;
-    else
-      throw UsageError(
-          fmt::format("--only: got '{}'; accepted: a list of elastic, conductivity", part));
+  r.cell_size = cmd.cell_size;
+  r.units = cmd.units;
+  try {
+    set_properties_solid(r, cmd.solid, cmd.phase, cmd.porosity, cmd.thickness);
+    set_properties_only(r, cmd.only);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
   }
+  parse_material(cmd.material, r);
   r.compare_nodal = cmd.compare_nodal;
   r.grid_check = cmd.grid_check;
   r.tolerance = cmd.tolerance;
-  r.cell_size = cmd.cell_size;
-  r.units = cmd.units;
   if (const std::string why = check_properties_request(r); !why.empty()) throw UsageError(why);
   return r;
 }

@@ -889,60 +889,28 @@ py::object properties(py::handle source, const py::dict& o, py::handle threads) 
     phi = &*owned;
   }
   auto given = [&](const char* key) { return o.contains(key) && !o[key].is_none(); };
-  const std::string solid = given("solid") ? string_option(o["solid"], "solid") : "network";
-  if (solid == "network")
-    r.solid.kind = SolidKind::kNetwork;
-  else if (solid == "sheet")
-    r.solid.kind = SolidKind::kSheet;
-  else
-    throw py::value_error(fmt::format("solid: got '{}'; accepted: network, sheet", solid));
-  if (given("phase")) {
-    std::string shown;
-    const long long phase = integer_option(o["phase"], "phase", &shown);
-    if (phase != 1 && phase != 2)
-      throw py::value_error(fmt::format("phase: got {}; accepted: 1, 2", phase));
-    r.solid.other_phase = phase == 2;
+  if (given("cell_size")) r.cell_size = real_option(o["cell_size"], "cell_size");
+  std::string shown;
+  try {
+    set_properties_solid(r, given("solid") ? string_option(o["solid"], "solid") : "network",
+                         given("phase") ? integer_option(o["phase"], "phase", &shown) : 1,
+                         given("porosity") ? real_option(o["porosity"], "porosity") : NAN,
+                         given("thickness") ? real_option(o["thickness"], "thickness") : NAN);
+    if (given("only"))
+      set_properties_only(
+          r, list_option(o["only"], "only", "a str or a sequence of str",
+                         [](py::handle e, const std::string& key) { return string_option(e, key); }));
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
   }
-  const bool porosity = given("porosity"), thickness = given("thickness");
-  if (r.solid.kind == SolidKind::kNetwork && (porosity || thickness))
-    throw py::value_error(fmt::format(
-        "{}: a network's porosity is its member's; run the member at the porosity you want, or "
-        "use solid='sheet'",
-        porosity ? "porosity" : "thickness"));
-  if (r.solid.kind == SolidKind::kSheet && porosity == thickness)
-    throw py::value_error("solid='sheet': give exactly one of porosity and thickness");
-  r.solid.porosity = porosity ? real_option(o["porosity"], "porosity") : NAN;
-  r.solid.thickness = thickness ? real_option(o["thickness"], "thickness") : 0.0;
-  if (porosity && !(r.solid.porosity > 0.0 && r.solid.porosity < 1.0))
-    throw py::value_error(fmt::format("porosity: got {}; accepted: 0 < P < 1", r.solid.porosity));
   if (given("youngs_modulus_gpa"))
     r.youngs_modulus_gpa = real_option(o["youngs_modulus_gpa"], "material");
   if (given("poisson_ratio")) r.poisson_ratio = real_option(o["poisson_ratio"], "material");
-  if (given("only")) {
-    const std::string only =
-        list_option(o["only"], "only", "a str or a sequence of str",
-                    [](py::handle e, const std::string& key) { return string_option(e, key); });
-    r.elastic = r.conductivity = false;
-    std::stringstream parts(only);
-    for (std::string part; std::getline(parts, part, ',');) {
-      if (part == "elastic")
-        r.elastic = true;
-      else if (part == "conductivity")
-        r.conductivity = true;
-      else
-        throw py::value_error(
-            fmt::format("only: got '{}'; accepted: elastic, conductivity", part));
-    }
-  }
   if (given("compare_nodal")) r.compare_nodal = bool_option(o["compare_nodal"], "compare_nodal");
   if (given("grid_check")) r.grid_check = bool_option(o["grid_check"], "grid_check");
   if (given("tolerance")) r.tolerance = real_option(o["tolerance"], "tolerance");
-  if (given("cell_size")) r.cell_size = real_option(o["cell_size"], "cell_size");
   if (given("units")) r.units = string_option(o["units"], "units");
   if (given("surface")) r.surface = string_option(o["surface"], "surface");
-  if (thickness && !(r.solid.thickness > 0.0 && r.solid.thickness < 0.5 * r.cell_size))
-    throw py::value_error(fmt::format("thickness: got {}; accepted: 0 < T < {}",
-                                      r.solid.thickness, 0.5 * r.cell_size));
   if (const std::string why = check_properties_request(r); !why.empty())
     throw py::value_error(why);
   ThreadScope scope(threads);

@@ -23,6 +23,19 @@ double cube_sixfold_fraction(const double v[8], double level = 0.5) {
   return s;
 }
 
+// cube_sixfold_fraction of the dual cell whose lower corner is *p (corner c at p[off[c]]),
+// with the whole-cube cases (every corner above or none) taken without the tetrahedra.
+inline double dual_cell_sixths(const double* p, const std::ptrdiff_t off[8], double level) {
+  double v[8];
+  double lo = p[0], hi = p[0];
+  for (int c = 0; c < 8; ++c) {
+    v[c] = p[off[c]];
+    lo = std::min(lo, v[c]);
+    hi = std::max(hi, v[c]);
+  }
+  return lo > level ? 6.0 : hi > level ? cube_sixfold_fraction(v, level) : 0.0;
+}
+
 }  // namespace
 
 double tet_fraction_above(const double g[4]) {
@@ -67,18 +80,7 @@ double linear_volume_fraction(const Field& phi, double level) {
     for (int j = 0; j < ny; ++j) {
       const double* row = &phi(0, j, k);
       for (int i = 0; i < nx; ++i) {
-        const double* p = row + i;
-        double v[8];
-        double lo = p[0], hi = p[0];
-        for (int c = 0; c < 8; ++c) {
-          v[c] = p[off[c]];
-          lo = std::min(lo, v[c]);
-          hi = std::max(hi, v[c]);
-        }
-        if (lo > level)
-          sixths += 6.0;
-        else if (hi > level)
-          sixths += cube_sixfold_fraction(v, level);
+        sixths += dual_cell_sixths(row + i, off, level);
       }
     }
   return phi.sum_over_ranks(sixths) / (6.0 * phi.global_cells());
@@ -98,15 +100,7 @@ void dual_cell_fractions(const Field& phi, double level, Field& fraction) {
       const double* row = &phi(0, j, k);
       double* out = &fraction(0, j, k);
       for (int i = 0; i < n; ++i) {
-        const double* p = row + i;
-        double v[8];
-        double lo = p[0], hi = p[0];
-        for (int c = 0; c < 8; ++c) {
-          v[c] = p[off[c]];
-          lo = std::min(lo, v[c]);
-          hi = std::max(hi, v[c]);
-        }
-        out[i] = lo > level ? 1.0 : hi > level ? cube_sixfold_fraction(v, level) / 6.0 : 0.0;
+        out[i] = dual_cell_sixths(row + i, off, level) / 6.0;
       }
     }
 }

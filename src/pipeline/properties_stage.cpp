@@ -1,5 +1,6 @@
 #include "pipeline/properties_stage.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -170,6 +171,55 @@ void describe_solid(nlohmann::json& j, const SolidSpec& spec, const VoxelSolid& 
 }
 
 }  // namespace
+
+void set_properties_solid(PropertiesRequest& r, const std::string& solid, long long phase,
+                          double porosity, double thickness) {
+  if (solid == "network")
+    r.solid.kind = SolidKind::kNetwork;
+  else if (solid == "sheet")
+    r.solid.kind = SolidKind::kSheet;
+  else
+    throw std::invalid_argument(
+        fmt::format("--solid: got '{}'; accepted: network, sheet", solid));
+  if (phase != 1 && phase != 2)
+    throw std::invalid_argument(fmt::format("--phase: got {}; accepted: 1, 2", phase));
+  r.solid.other_phase = phase == 2;
+  const bool by_porosity = !std::isnan(porosity), by_thickness = !std::isnan(thickness);
+  if (r.solid.kind == SolidKind::kNetwork && (by_porosity || by_thickness))
+    throw std::invalid_argument(fmt::format(
+        "{}: a network's porosity is its member's (1 - the volume fraction of its phase); "
+        "compute the member at the porosity you want (run --volume-fraction), or use --solid "
+        "sheet",
+        by_porosity ? "--porosity" : "--thickness"));
+  if (r.solid.kind == SolidKind::kSheet && by_porosity == by_thickness)
+    throw std::invalid_argument(
+        "--solid sheet: give exactly one of --porosity P and --thickness T");
+  if (by_porosity && !(porosity > 0.0 && porosity < 1.0))
+    throw std::invalid_argument(fmt::format("--porosity: got {}; accepted: 0 < P < 1", porosity));
+  if (by_thickness && !(thickness > 0.0 && thickness < 0.5 * r.cell_size))
+    throw std::invalid_argument(fmt::format(
+        "--thickness: got {}; accepted: 0 < T < {} (half a cell of --cell-size {})", thickness,
+        0.5 * r.cell_size, r.cell_size));
+  r.solid.porosity = by_porosity ? porosity : NAN;
+  r.solid.thickness = by_thickness ? thickness : 0.0;
+}
+
+void set_properties_only(PropertiesRequest& r, const std::string& only) {
+  r.elastic = r.conductivity = false;
+  std::size_t start = 0;
+  while (start <= only.size()) {
+    const std::size_t comma = std::min(only.find(',', start), only.size());
+    const std::string part = only.substr(start, comma - start);
+    if (part == "elastic")
+      r.elastic = true;
+    else if (part == "conductivity")
+      r.conductivity = true;
+    else
+      throw std::invalid_argument(
+          fmt::format("--only: got '{}'; accepted: a list of elastic, conductivity", part));
+    start = comma + 1;
+  }
+}
 
 std::string check_properties_request(const PropertiesRequest& r) {
   if (!std::isnan(r.youngs_modulus_gpa) &&

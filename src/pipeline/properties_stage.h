@@ -29,6 +29,13 @@ struct PropertiesRequest {
   std::string units = "cell";
 };
 
+// The solid and what to compute as the user names them (--solid network|sheet, --phase 1|2,
+// --porosity or --thickness, NaN where not given; --only elastic,conductivity): the request's
+// fields, or std::invalid_argument naming the option and what is accepted.
+void set_properties_solid(PropertiesRequest& r, const std::string& solid, long long phase,
+                          double porosity, double thickness);
+void set_properties_only(PropertiesRequest& r, const std::string& only);
+
 // Why the request cannot be computed ("" if it can), naming the option: ranges of
 // --material, --tolerance, --porosity/--thickness, --only.
 std::string check_properties_request(const PropertiesRequest& r);
