@@ -157,7 +157,7 @@ def test_the_other_functions_refuse_the_same(phi, small_result, tmp_path):
         (lambda: cmcsurf.mesh(phi, cell_size=True), TypeError,
          "cell_size: got True of type bool; accepted: a real number"),
         (lambda: cmcsurf.mesh(phi, cell_size=math.inf), ValueError,
-         "--cell-size: got inf; accepted: > 0 and <= 1e6"),
+         "--cell-size: got inf; accepted: 0.001 .. 1e+06"),
         (lambda: cmcsurf.mesh(phi, threads=2**70), ValueError,
          "--threads: got 1180591620717411303424; accepted: 0 <= T <= 4096 (0: OMP_NUM_THREADS "
          "or all cores)"),

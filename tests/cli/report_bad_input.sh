@@ -34,6 +34,7 @@ expect 1 "history.csv" "$work/nohist"
 # A sweep.json whose surface makes a member name outside the sweep folder: refused, and the
 # folder it names is not read (a complete run sits there, so following the name would succeed).
 mkdir -p "$work/victim" "$work/escape"
+: >"$work/escape/.cmcsurf"  # a cmcsurf folder, so that the member names are what is refused
 cp -r "$work/run" "$work/victim/P_0.50"
 echo '{"surfaces": ["../victim/P"], "volume_fractions": [0.5]}' >"$work/escape/sweep.json"
 expect 1 "sweep.json.*member name '../victim/P_0.50'" "$work/escape"
