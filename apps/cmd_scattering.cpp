@@ -62,22 +62,6 @@ std::vector<double> parse_peaks(const std::string& text) {
   return peaks;
 }
 
-nlohmann::json indices(const std::vector<Reflection>& c, bool present) {
-  auto list = nlohmann::json::array();
-  for (const auto& r : c)
-    if (r.present == present) list.push_back({r.h, r.k, r.l});
-  return list;
-}
-
-nlohmann::json indexing_json(const Indexing& ix, int divisor) {
-  return {{"group", ix.group},
-          {"lattice_nm", ix.lattice * divisor},
-          {"group_cell_nm", ix.lattice},
-          {"s", ix.s},
-          {"q_fit", ix.q_fit},
-          {"relative_residual", ix.residual},
-          {"rms_relative_residual", ix.rms_residual}};
-}
 
 }  // namespace
 
@@ -191,15 +175,6 @@ CommandFn add_scattering_command(CLI::App& root) {
             const auto& classes = result.classes;
             const SpaceGroupFit& fit = result.space_group;
             const PowderPattern& pattern = result.powder;
-            nlohmann::json indexing;
-            if (result.indexed) {
-              indexing = indexing_json(result.indexing, fit.divisor);
-              indexing["by_group"] = nlohmann::json::object();
-              for (const auto& [symbol, ix] : result.by_group)
-                indexing["by_group"][symbol] =
-                    ix ? indexing_json(*ix, fit.divisor) : nlohmann::json(nullptr);
-            }
-
             // Outputs.
             CsvWriter reflections({"h", "k", "l", "s", "multiplicity", "intensity", "amplitude",
                                    "phase"});
@@ -209,44 +184,10 @@ CommandFn add_scattering_command(CLI::App& root) {
             CsvWriter saxs({"q", "intensity"});
             for (std::size_t i = 0; i < pattern.q.size(); ++i)
               saxs.add_row({pattern.q[i], pattern.intensity[i]});
-            nlohmann::json consistent = nlohmann::json::array();
-            for (const auto& c : fit.consistent)
-              consistent.push_back({{"symbol", c.group->symbol},
-                                    {"number", c.group->number},
-                                    {"forbidden_classes", c.forbidden}});
-            nlohmann::json accidental = nlohmann::json::array();
-            for (const auto& a : fit.accidental) accidental.push_back(a);
-            nlohmann::json report = {
-                {"source", cmd->from},
-                {"grid", n},
-                {"density", density_model_name(density)},
-                {"smax", smax},
-                {"lattice_nm", cmd->lattice},
-                {"debye_waller_nm", cmd->debye_waller},
-                {"peak_width", pattern.width},
-                {"peak_shape", cmd->peak_shape},
-                {"absent_tol", cmd->absent_tol},
-                {"f000", result.f000},
-                {"symmetry_spread", result.symmetry_spread},
-                {"space_group",
-                 {{"symbol", fit.best->symbol},
-                  {"number", fit.best->number},
-                  {"same_conditions", fit.best->same_conditions},
-                  {"cell_divisor", fit.divisor},
-                  {"consistent", consistent},
-                  {"accidentally_absent", accidental}}},
-                {"allowed", indices(classes, true)},
-                {"absent", indices(classes, false)},
-                {"timings", {{"load_seconds", load_s},
-                             {"density_seconds", result.density_seconds},
-                             {"fft_seconds", result.fft_seconds},
-                             {"analysis_seconds", result.analysis_seconds}}}};
-            if (density.model == DensityModel::kBilayer)
-              report["interface_width"] = result.interface_width;
-            if (!indexing.is_null()) {
-              report["peaks"] = peaks;
-              report["indexing"] = indexing;
-            }
+            nlohmann::json report = {{"source", cmd->from}};
+            report.update(scattering_json(result, sp));
+            report["timings"]["load_seconds"] = load_s;
+            const nlohmann::json indexing = report.value("indexing", nlohmann::json());
             std::filesystem::path name = from.lexically_normal();  // the title: its last name
             if (name.filename().empty()) name = name.parent_path();
             const Image plot = draw_saxs_plot(

@@ -30,7 +30,7 @@ from ._cmcsurf import Mesh, Result, SolverDiverged
 
 __all__ = [
     "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
-    "relax", "run", "surfaces", "sweep", "__version__",
+    "relax", "run", "scattering", "surfaces", "sweep", "__version__",
 ]
 
 __version__: str = _cmcsurf.version()
@@ -354,6 +354,34 @@ def properties(
         options["youngs_modulus_gpa"] = e
         options["poisson_ratio"] = nu
     return _cmcsurf.properties(source, options, threads)
+
+
+def scattering(
+    source: Union[Result, Any],
+    density: str = "step",
+    *,
+    smax: int = 0,
+    lattice: float = 1.0,
+    peaks: Optional[Sequence[float]] = None,
+    debye_waller: float = 0.0,
+    peak_width: float = 0.0,
+    peak_shape: str = "gaussian",
+    absent_tol: float = 1e-6,
+    index_tol: float = 0.01,
+    threads: int = 0,
+) -> Dict[str, Any]:
+    """Structure factors of a :class:`Result` (or an (N, N, N) field), as ``cmcsurf
+    scattering``: the dict of scattering.json (``space_group``, ``allowed``, ``absent``,
+    ``indexing`` with ``peaks`` in 1/nm, ...; docs/science.md) with ``reflections`` (the
+    columns of reflections.csv: h, k, l, s, multiplicity, intensity, amplitude, phase) and
+    ``saxs`` (q, intensity of the powder pattern) as NumPy arrays. ``density``: "step",
+    "bilayer:L" or "profile"; ``lattice`` a in nm.
+    """
+    options: Dict[str, Any] = {"density": density, "smax": smax, "lattice": lattice,
+                               "peaks": peaks, "debye_waller": debye_waller,
+                               "peak_width": peak_width, "peak_shape": peak_shape,
+                               "absent_tol": absent_tol, "index_tol": index_tol}
+    return _cmcsurf.scattering(source, options, threads)
 
 
 def default_options() -> Dict[str, Any]:

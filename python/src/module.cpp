@@ -34,6 +34,7 @@
 #include "io/png.h"
 #include "io/output_folder.h"
 #include "pipeline/properties_stage.h"
+#include "science/scattering.h"
 #include "io/run_folder.h"
 #include "io/run_report.h"
 #include "measure/sharp_volume.h"
@@ -923,6 +924,91 @@ py::object properties(py::handle source, const py::dict& o, py::handle threads) 
   return to_python(j);
 }
 
+// cmcsurf scattering of a Result or an (N, N, N) field (science/scattering.h): the dictionary
+// of scattering.json, with the columns of reflections.csv ("reflections") and saxs.csv
+// ("saxs") as NumPy arrays.
+py::object scattering(py::handle source, const py::dict& o, py::handle threads) {
+  std::optional<Field> owned;
+  const Field* phi = nullptr;
+  if (py::isinstance<Result>(source)) {
+    phi = &py::cast<Result&>(source).result.phi;
+  } else {
+    owned = array_to_field(source, "phi");
+    phi = &*owned;
+  }
+  auto given = [&](const char* key) { return o.contains(key) && !o[key].is_none(); };
+  ScatteringParams sp;
+  std::string shown;
+  try {
+    if (given("density")) sp.density = parse_density_model(string_option(o["density"], "density"));
+    if (given("smax")) sp.smax = int(std::clamp<long long>(integer_option(o["smax"], "smax", &shown),
+                                                          -1, 1 << 30));
+    if (sp.smax < 0) throw std::invalid_argument("--smax: accepted: S >= 0 (0: automatic)");
+    if (given("lattice")) sp.powder.lattice = real_option(o["lattice"], "lattice");
+    if (given("debye_waller")) sp.powder.debye_waller = real_option(o["debye_waller"], "debye_waller");
+    if (given("peak_width")) sp.powder.peak_width = real_option(o["peak_width"], "peak_width");
+    if (given("peak_shape")) {
+      const std::string shape = string_option(o["peak_shape"], "peak_shape");
+      if (shape != "gaussian" && shape != "lorentzian")
+        throw std::invalid_argument(
+            fmt::format("--peak-shape: got '{}'; accepted: gaussian, lorentzian", shape));
+      sp.powder.lorentzian = shape == "lorentzian";
+    }
+    if (given("absent_tol")) sp.absent_tol = real_option(o["absent_tol"], "absent_tol");
+    if (given("index_tol")) sp.index_tol = real_option(o["index_tol"], "index_tol");
+    if (!(sp.powder.lattice > 0.0 && std::isfinite(sp.powder.lattice)))
+      throw std::invalid_argument(fmt::format("--lattice: got {}; accepted: > 0", sp.powder.lattice));
+    if (!(sp.powder.debye_waller >= 0.0 && std::isfinite(sp.powder.debye_waller)))
+      throw std::invalid_argument("--debye-waller: accepted: >= 0");
+    if (!(sp.powder.peak_width >= 0.0 && std::isfinite(sp.powder.peak_width)))
+      throw std::invalid_argument("--peak-width: accepted: >= 0");
+    if (!(sp.absent_tol > 0.0 && sp.absent_tol < 1.0))
+      throw std::invalid_argument("--absent-tol: accepted: 0 < T < 1");
+    if (!(sp.index_tol > 0.0 && sp.index_tol < 1.0))
+      throw std::invalid_argument("--index-tol: accepted: 0 < T < 1");
+    if (given("peaks"))
+      for (py::handle q : o["peaks"]) {
+        const double v = real_option(q, "peaks");
+        if (!(v > 0.0 && std::isfinite(v)))
+          throw std::invalid_argument(fmt::format("--peaks: {} is not a peak position; accepted: "
+                                                  "q > 0 in 1/nm", v));
+        sp.peaks.push_back(v);
+      }
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  ThreadScope scope(threads);
+  ScatteringResult result;
+  nlohmann::json j;
+  {
+    py::gil_scoped_release release;
+    result = scattering_analysis(*phi, sp);  // std::invalid_argument -> ValueError
+    j = scattering_json(result, sp);
+  }
+  py::dict d = to_python(j);
+  const std::size_t m = result.classes.size();
+  py::array_t<std::int64_t> h(m), k(m), l(m), s(m), mult(m);
+  py::array_t<double> intensity(m), amplitude(m), phase(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Reflection& r = result.classes[i];
+    h.mutable_at(i) = r.h, k.mutable_at(i) = r.k, l.mutable_at(i) = r.l, s.mutable_at(i) = r.s;
+    mult.mutable_at(i) = r.multiplicity;
+    intensity.mutable_at(i) = r.intensity, amplitude.mutable_at(i) = r.amplitude;
+    phase.mutable_at(i) = r.phase;
+  }
+  py::dict reflections;
+  reflections["h"] = h, reflections["k"] = k, reflections["l"] = l, reflections["s"] = s;
+  reflections["multiplicity"] = mult, reflections["intensity"] = intensity;
+  reflections["amplitude"] = amplitude, reflections["phase"] = phase;
+  d["reflections"] = reflections;
+  py::dict saxs;
+  saxs["q"] = py::array_t<double>(result.powder.q.size(), result.powder.q.data());
+  saxs["intensity"] =
+      py::array_t<double>(result.powder.intensity.size(), result.powder.intensity.data());
+  d["saxs"] = saxs;
+  return std::move(d);
+}
+
 py::list surfaces() {
   py::list out;
   for (const SurfaceInfo& s : builtin_surfaces()) {
@@ -1027,6 +1113,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
         py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("mesh", &mesh, py::arg("source"), py::arg("options"), py::arg("threads"));
   m.def("properties", &properties, py::arg("source"), py::arg("options"), py::arg("threads"));
+  m.def("scattering", &scattering, py::arg("source"), py::arg("options"), py::arg("threads"));
 
   // The methods' docstrings begin with their own signature, in the package's types.
   py::options options;

@@ -46,3 +46,22 @@ def test_properties_of_an_array_and_bad_arguments(member):
         cmcsurf.properties(phi, material=110)
     with pytest.raises(ValueError, match="compare-nodal"):
         cmcsurf.properties(phi, compare_nodal=True)  # an array names no nodal formula
+
+
+def test_scattering_equals_the_cli_file(member, tmp_path):
+    got = cmcsurf.scattering(member, "bilayer:0.05", lattice=12.0, threads=1)
+    member.save(tmp_path / "s", preview=False, report=False)
+    run_cli("scattering", "--from", str(tmp_path / "s"), "--density", "bilayer:0.05",
+            "--lattice", "12", "--threads", "1", "--quiet")
+    cli = json.loads((tmp_path / "s" / "scattering" / "scattering.json").read_text())
+    for key in ("space_group", "allowed", "absent", "f000", "smax", "density"):
+        assert got[key] == cli[key], key
+    # a bilayer around the G member at 0.3: its two labyrinths differ, so not Ia-3d
+    assert got["space_group"]["symbol"] == "I4_132"
+    r = got["reflections"]
+    assert r["h"].dtype == np.int64 and len(r["s"]) == len(r["intensity"]) > 10
+    assert got["saxs"]["q"].shape == got["saxs"]["intensity"].shape
+    with pytest.raises(ValueError, match="lattice"):
+        cmcsurf.scattering(member, lattice=-1)
+    with pytest.raises(ValueError, match="density"):
+        cmcsurf.scattering(member, "fog")

@@ -533,4 +533,70 @@ ScatteringResult scattering_analysis(const Field& phi, const ScatteringParams& p
   return r;
 }
 
+namespace {
+
+nlohmann::json indices(const std::vector<Reflection>& c, bool present) {
+  auto list = nlohmann::json::array();
+  for (const auto& r : c)
+    if (r.present == present) list.push_back({r.h, r.k, r.l});
+  return list;
+}
+
+nlohmann::json indexing_json(const Indexing& ix, int divisor) {
+  return {{"group", ix.group},
+          {"lattice_nm", ix.lattice * divisor},
+          {"group_cell_nm", ix.lattice},
+          {"s", ix.s},
+          {"q_fit", ix.q_fit},
+          {"relative_residual", ix.residual},
+          {"rms_relative_residual", ix.rms_residual}};
+}
+
+}  // namespace
+
+nlohmann::json scattering_json(const ScatteringResult& result, const ScatteringParams& p) {
+  const SpaceGroupFit& fit = result.space_group;
+  nlohmann::json consistent = nlohmann::json::array();
+  for (const auto& c : fit.consistent)
+    consistent.push_back({{"symbol", c.group->symbol},
+                          {"number", c.group->number},
+                          {"forbidden_classes", c.forbidden}});
+  nlohmann::json accidental = nlohmann::json::array();
+  for (const auto& a : fit.accidental) accidental.push_back(a);
+  nlohmann::json report = {
+      {"grid", result.n},
+      {"density", density_model_name(p.density)},
+      {"smax", result.smax},
+      {"lattice_nm", p.powder.lattice},
+      {"debye_waller_nm", p.powder.debye_waller},
+      {"peak_width", result.powder.width},
+      {"peak_shape", p.powder.lorentzian ? "lorentzian" : "gaussian"},
+      {"absent_tol", p.absent_tol},
+      {"f000", result.f000},
+      {"symmetry_spread", result.symmetry_spread},
+      {"space_group",
+       {{"symbol", fit.best->symbol},
+        {"number", fit.best->number},
+        {"same_conditions", fit.best->same_conditions},
+        {"cell_divisor", fit.divisor},
+        {"consistent", consistent},
+        {"accidentally_absent", accidental}}},
+      {"allowed", indices(result.classes, true)},
+      {"absent", indices(result.classes, false)},
+      {"timings", {{"density_seconds", result.density_seconds},
+                   {"fft_seconds", result.fft_seconds},
+                   {"analysis_seconds", result.analysis_seconds}}}};
+  if (p.density.model == DensityModel::kBilayer)
+    report["interface_width"] = result.interface_width;
+  if (result.indexed) {
+    nlohmann::json indexing = indexing_json(result.indexing, fit.divisor);
+    indexing["by_group"] = nlohmann::json::object();
+    for (const auto& [symbol, ix] : result.by_group)
+      indexing["by_group"][symbol] = ix ? indexing_json(*ix, fit.divisor) : nlohmann::json(nullptr);
+    report["peaks"] = p.peaks;
+    report["indexing"] = indexing;
+  }
+  return report;
+}
+
 }  // namespace cmcsurf

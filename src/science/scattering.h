@@ -8,6 +8,8 @@
 // q_hkl = 2 pi sqrt(s) / a with s = h^2 + k^2 + l^2 and a the lattice parameter.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <complex>
 #include <optional>
@@ -178,5 +180,9 @@ struct ScatteringResult {
   double density_seconds = 0, fft_seconds = 0, analysis_seconds = 0;
 };
 ScatteringResult scattering_analysis(const Field& phi, const ScatteringParams& p);
+
+// scattering.json's keys (docs/science.md) of an analysis: what `cmcsurf scattering` writes
+// and Python's cmcsurf.scattering returns (the command adds "source" and its load time).
+nlohmann::json scattering_json(const ScatteringResult& r, const ScatteringParams& p);
 
 }  // namespace cmcsurf
