@@ -23,6 +23,7 @@
 #include "pipeline/distributed_mesh.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/properties_stage.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
@@ -44,6 +45,8 @@ struct RunCommand {
   PageOptions pages;        // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
+  bool properties = false;        // --properties: the network's stiffness and conductivity
+  bool properties_nodal = false;  // --properties-nodal: and the nodal twin's
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -96,6 +99,8 @@ nlohmann::json output_options(const RunCommand& cmd) {
           {"mesh", cmd.mesh_format},
           {"no_preview", cmd.pages.no_preview},
           {"no_report", cmd.pages.no_report},
+          {"properties", cmd.properties},
+          {"properties_nodal", cmd.properties_nodal},
           {"checkpoint_every", cmd.checkpoints.every}};
 }
 
@@ -110,6 +115,8 @@ void restore_output_options(RunCommand& cmd, const CLI::App& app, const nlohmann
   r.restore("--mesh", "mesh", cmd.mesh_format);
   r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
   r.restore("--no-report", "no_report", cmd.pages.no_report);
+  r.restore("--properties", "properties", cmd.properties);
+  r.restore("--properties-nodal", "properties_nodal", cmd.properties_nodal);
   r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
   check_mesh_format(cmd.mesh_format);
   if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
@@ -196,6 +203,12 @@ int run(RunCommand& cmd, const CLI::App& app) {
         std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
                                                        "--checkpoint-every 0 and killed"
                                                      : "not a run folder"));
+  if (cmd.properties_nodal) cmd.properties = true;
+  if (cmd.properties && world->distributed())
+    throw UsageError(fmt::format("--properties: the properties solvers hold the whole grid, "
+                                 "so they run on one process, not under mpirun ({} ranks): "
+                                 "run `cmcsurf properties --from DIR` afterwards",
+                                 world->ranks()));
   if (!resuming) {
     // Every option is checked before the folder is claimed (claiming may create it).
     if (world->distributed()) check_decomposable(p, *world);
@@ -264,6 +277,15 @@ int run(RunCommand& cmd, const CLI::App& app) {
     if (resume) extra["resumed_from_step"] = resume->step;
     if (preview) extra["preview_seconds"] = preview->seconds;
     if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
+    if (cmd.properties) {  // the network of phase 1 (docs/properties.md)
+      PropertiesRequest request;
+      request.compare_nodal = cmd.properties_nodal;
+      request.surface = p.surface;
+      const nlohmann::json properties = compute_properties(r.phi, request);
+      extra["properties"] = properties;
+      extra.update(properties_summary(properties));
+      extra["properties_seconds"] = properties["properties_seconds"];
+    }
     // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
     std::optional<Scaffold> surface;
     if (!cmd.mesh_format.empty()) {
@@ -328,6 +350,12 @@ CommandFn add_run_command(CLI::App& root) {
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);
   add_force_option(*app, cmd->force);
+  app->add_flag("--properties", cmd->properties,
+                "Also the effective stiffness and conductivities of the network solid (phase 1) "
+                "into report.json (properties, properties_*; docs/properties.md)");
+  app->add_flag("--properties-nodal", cmd->properties_nodal,
+                "--properties with the nodal network at the same porosity beside it "
+                "(properties.nodal, properties_nodal_*)");
   return {app, [cmd, app]() -> int { return run(*cmd, *app); }};
 }
 

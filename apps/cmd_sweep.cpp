@@ -25,6 +25,7 @@
 #include "parallel/decomposition.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/properties_stage.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "pipeline/sweep_groups.h"
@@ -55,6 +56,8 @@ struct SweepCommand {
   PageOptions pages;  // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
+  bool properties = false;        // --properties: each member's network stiffness, conductivity
+  bool properties_nodal = false;  // --properties-nodal: and its nodal twin's
 };
 
 // scripts/plot_families.py: --plot-script, $CMCSURF_PLOT_SCRIPT, beside the executable
@@ -143,6 +146,8 @@ nlohmann::json output_options(const SweepCommand& cmd) {
           {"no_preview", cmd.pages.no_preview},
           {"no_report", cmd.pages.no_report},
           {"no_plot", cmd.no_plot},
+          {"properties", cmd.properties},
+          {"properties_nodal", cmd.properties_nodal},
           {"checkpoint_every", cmd.checkpoints.every}};
 }
 
@@ -200,6 +205,8 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
     r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
     r.restore("--no-report", "no_report", cmd.pages.no_report);
     r.restore("--no-plot", "no_plot", cmd.no_plot);
+    r.restore("--properties", "properties", cmd.properties);
+    r.restore("--properties-nodal", "properties_nodal", cmd.properties_nodal);
     r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
     if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
       throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
@@ -363,6 +370,13 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   const auto world = Decomposition::world();
   const GroupPlan gplan = plan_groups(cmd, sp, *world);
   refuse_if_too_large(sp.run, *world, gplan.group_ranks);  // before the folder is touched
+  if (cmd.properties_nodal) cmd.properties = true;
+  if (cmd.properties && gplan.group_ranks > 1)
+    throw UsageError(fmt::format(
+        "--properties: the properties solvers hold a member's whole grid; with groups of {} "
+        "processes they cannot run (use --groups {} for groups of one process, or `cmcsurf "
+        "properties` on the members afterwards)",
+        gplan.group_ranks, world->ranks()));
   const int threads = apply_threads(cmd.threads);
   cmd.threads = threads;  // the count in use, kept in sweep.json for a resume
   const auto t0 = std::chrono::steady_clock::now();
@@ -448,6 +462,15 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
+      if (cmd.properties) {  // the member's network of phase 1 (docs/properties.md)
+        PropertiesRequest request;
+        request.compare_nodal = cmd.properties_nodal;
+        request.surface = m.params.surface;
+        const nlohmann::json properties = compute_properties(r.phi, request);
+        extra["properties"] = properties;
+        extra.update(properties_summary(properties));
+        extra["properties_seconds"] = properties["properties_seconds"];
+      }
       if (gd->distributed())  // field.pvti: one piece per process of the group
         field_seconds = write_run_field_pieces(dir / m.name, m.params, r, outputs->quality,
                                                threads, cmd.float32, extra);
@@ -707,6 +730,11 @@ CommandFn add_sweep_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
   add_force_option(*app, cmd->force);
+  app->add_flag("--properties", cmd->properties,
+                "Also each member's network (phase 1) stiffness and conductivities: report.json "
+                "and sweep.csv's properties_* columns (docs/properties.md)");
+  app->add_flag("--properties-nodal", cmd->properties_nodal,
+                "--properties with each member's nodal network beside it (properties_nodal_*)");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);

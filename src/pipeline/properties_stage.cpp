@@ -281,4 +281,36 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
   return j;
 }
 
+namespace {
+
+double mean3(const nlohmann::json& v) {
+  if (v.is_array() && v.size() == 3 && v[0].is_array())  // a 3x3 tensor: its mean diagonal
+    return (v[0][0].get<double>() + v[1][1].get<double>() + v[2][2].get<double>()) / 3.0;
+  return (v[0].get<double>() + v[1].get<double>() + v[2].get<double>()) / 3.0;
+}
+
+void add_summary(nlohmann::json& out, const nlohmann::json& p, const std::string& prefix) {
+  if (p.contains("relative_density")) out[prefix + "relative_density"] = p["relative_density"];
+  for (const char* key : {"youngs_modulus", "shear_modulus", "poisson_ratio",
+                          "conductivity_solid", "conductivity_pore", "tortuosity_pore"}) {
+    if (p.contains(key)) out[prefix + key] = mean3(p[key]);
+    const std::string error = std::string(key) + "_error";
+    if (p.contains(error)) out[prefix + error] = mean3(p[error]);
+  }
+  for (const char* key : {"bulk_modulus", "zener_ratio"}) {
+    if (p.contains(key)) out[prefix + key] = p[key];
+    const std::string error = std::string(key) + "_error";
+    if (p.contains(error)) out[prefix + error] = p[error];
+  }
+}
+
+}  // namespace
+
+nlohmann::json properties_summary(const nlohmann::json& properties) {
+  nlohmann::json out = nlohmann::json::object();
+  add_summary(out, properties, "properties_");
+  if (properties.contains("nodal")) add_summary(out, properties["nodal"], "properties_nodal_");
+  return out;
+}
+
 }  // namespace cmcsurf

@@ -47,4 +47,11 @@ std::string check_properties_request(const PropertiesRequest& r);
 nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
                                   const std::function<void(const std::string&)>& progress = {});
 
+// The scalars of a properties dictionary for report.json's top level and sweep.csv's columns:
+// properties_relative_density, properties_youngs_modulus (mean over x, y, z), ..._shear_modulus,
+// ..._poisson_ratio, ..._bulk_modulus, ..._zener_ratio, ..._conductivity_solid and
+// ..._conductivity_pore (mean diagonals), ..._tortuosity_pore (mean), with their *_error when
+// grid-checked, and the same of the nodal twin as properties_nodal_*.
+nlohmann::json properties_summary(const nlohmann::json& properties);
+
 }  // namespace cmcsurf

@@ -40,6 +40,24 @@ assert all(e >= 0 for e in sheet["youngs_modulus_error"])
 assert sheet["grid_check"]["coarse_grid"] == 12
 PY
 
+# The --properties stage of run and sweep: report.json's properties and properties_* scalars
+# (sweep.csv's columns), the same numbers as the command's.
+"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
+  --no-report --properties-nodal --out "$work/gp" || { echo "FAIL: run --properties"; fail=1; }
+"$bin" sweep --surface G --volume-fractions 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
+  --no-report --no-plot --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
+"$bin" properties --from "$work/gp" --quiet --out "$work/gp.json" || fail=1
+python3 - "$work/gp.json" "$work/gp/report.json" "$work/sp/sweep.csv" <<'PY' || fail=1
+import csv, json, sys
+cmd, run = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+row = next(csv.DictReader(open(sys.argv[3])))
+e = sum(cmd["youngs_modulus"]) / 3
+assert abs(run["properties_youngs_modulus"] - e) < 1e-12, (run["properties_youngs_modulus"], e)
+assert run["properties"]["nodal"]["porosity"] > 0 and "properties_nodal_youngs_modulus" in run
+assert run["properties_seconds"] > 0
+assert abs(float(row["properties_youngs_modulus"]) - e) < 1e-9 * e, row["properties_youngs_modulus"]
+PY
+
 # Bad options: exit 2, the option named, nothing written.
 props() { check_usage "$1" "$2" properties --from "$work/g" "${@:3}"; }
 for bad in "--solid rod" "--phase 3" "--only flow" "--material abc" "--material 0" \
