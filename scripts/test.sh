@@ -45,7 +45,10 @@ if [ "$asan_build" != none ]; then
   asan_slow+='|cli\.report_page'
   # Minutes each under the sanitizers on 2 cores (the release pass above runs them all):
   asan_slow+='|cli\.sweep_resume|cli\.scaffold_modes|cli\.scaffold_outputs|cli\.verify_quick'
-  asan_slow+='|Part\.DecimationKeepsTheSolid)$'
+  asan_slow+='|Part\.DecimationKeepsTheSolid'
+  # Whole solves of the properties and a 32^3 scaffold member per case (release pass only; their
+  # kernels run here in the Homogenize.*, CellProperties.* and Part.* unit tests):
+  asan_slow+='|cli\.properties|cli\.scaffold_topology)$'
   ASAN_OPTIONS=abort_on_error=1 UBSAN_OPTIONS=abort_on_error=1:print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0" \
     ctest --test-dir "$asan_build" --output-on-failure -j 2 --timeout 600 -L 'unit|cli' \
