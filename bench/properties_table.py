@@ -71,14 +71,14 @@ COLUMNS = ["E/E_s", "G/E_s", "nu", "Zener", "k_solid,xx", "k_pore,xx", "HS bulk"
 FORMATS = ["{:.4f}", "{:.4f}", "{:.3f}", "{:.3f}", "{:.4f}", "{:.4f}", "{:.3f}", "{:.3f}"]
 
 
-def table(rows, solids):
+def table(rows, solids, gain_label):
     """Markdown: one row per case, each column 'CMC / nodal[ / offset]'."""
-    head = ["surface", "porosity"] + COLUMNS + ["E: CMC/nodal - 1", "seconds"]
+    head = ["surface", "porosity"] + COLUMNS + [gain_label, "seconds"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for surface, porosity, p, reason in rows:
         if p is None:
             cells = [f"no member: {reason}"] + [""] * (len(head) - 3)
-            lines.append(f"| {surface} | {porosity:g} | " + " | ".join(cells) + " |")
+            lines.append(f"| {surface} | {porosity:.3f} | " + " | ".join(cells) + " |")
             continue
         sets = [values(p)] + [values(p[s]) for s in solids]
         cells = [" / ".join(fmt.format(v[i]) for v in sets) for i, fmt in enumerate(FORMATS)]
@@ -101,7 +101,7 @@ def error_table(checks):
                 v = v[i][i] if isinstance(v[0], list) else v[i]
                 if isinstance(e, list):
                     e = e[i][i] if isinstance(e[0], list) else e[i]
-                cells.append(f"{v:.4f} ({e:.4f})" if e is not None else f"{v:.4f}")
+                cells.append(f"{v:.4f} ({100 * e / v:.2f}%)" if e is not None else f"{v:.4f}")
             lines.append(f"| {case} | {name} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -134,9 +134,10 @@ def main():
     order = {s: i for i, s in enumerate(args.surfaces)}
     key = lambda row: (order[row[0]], row[1])  # noqa: E731
     print(f"Networks (CMC / nodal), grid {args.grid}^3, threads {args.threads}\n")
-    print(table(sorted(networks, key=key), ["nodal"]))
+    print(table(sorted(networks, key=key), ["nodal"], "E: CMC/nodal - 1"))
     print(f"\nSheets (CMC / nodal band / nodal offset), grid {args.grid}^3\n")
-    print(table(sorted(sheets, key=key), ["nodal", "nodal_offset"]))
+    print(table(sorted(sheets, key=key), ["nodal", "nodal_offset"],
+                "E: CMC/band - 1 / CMC/offset - 1"))
 
     checks = []
     for case in args.grid_check:
@@ -147,7 +148,7 @@ def main():
         if folder:
             checks.append((case, properties(args, folder, surface, kind, porosity, True)))
     if checks:
-        print("\nGrid check (value on N, Richardson error estimate from N/2)\n")
+        print("\nGrid check (value on N; Richardson error estimate from N/2, % of value)\n")
         print(error_table(checks))
 
 
