@@ -277,15 +277,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
     if (resume) extra["resumed_from_step"] = resume->step;
     if (preview) extra["preview_seconds"] = preview->seconds;
     if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
-    if (cmd.properties) {  // the network of phase 1 (docs/properties.md)
-      PropertiesRequest request;
-      request.compare_nodal = cmd.properties_nodal;
-      request.surface = p.surface;
-      const nlohmann::json properties = compute_properties(r.phi, request);
-      extra["properties"] = properties;
-      extra.update(properties_summary(properties));
-      extra["properties_seconds"] = properties["properties_seconds"];
-    }
+    if (cmd.properties)  // the network of phase 1 (docs/properties.md)
+      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties_nodal));
     // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
     std::optional<Scaffold> surface;
     if (!cmd.mesh_format.empty()) {

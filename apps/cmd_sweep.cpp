@@ -462,15 +462,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
-      if (cmd.properties) {  // the member's network of phase 1 (docs/properties.md)
-        PropertiesRequest request;
-        request.compare_nodal = cmd.properties_nodal;
-        request.surface = m.params.surface;
-        const nlohmann::json properties = compute_properties(r.phi, request);
-        extra["properties"] = properties;
-        extra.update(properties_summary(properties));
-        extra["properties_seconds"] = properties["properties_seconds"];
-      }
+      if (cmd.properties)  // the member's network of phase 1 (docs/properties.md)
+        extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties_nodal));
       if (gd->distributed())  // field.pvti: one piece per process of the group
         field_seconds = write_run_field_pieces(dir / m.name, m.params, r, outputs->quality,
                                                threads, cmd.float32, extra);

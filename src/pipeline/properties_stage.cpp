@@ -313,4 +313,15 @@ nlohmann::json properties_summary(const nlohmann::json& properties) {
   return out;
 }
 
+nlohmann::json run_properties_keys(const Field& phi, const std::string& surface, bool nodal) {
+  PropertiesRequest request;
+  request.compare_nodal = nodal;
+  request.surface = surface;
+  const nlohmann::json properties = compute_properties(phi, request);
+  nlohmann::json keys = properties_summary(properties);
+  keys["properties_seconds"] = properties["properties_seconds"];
+  keys["properties"] = properties;
+  return keys;
+}
+
 }  // namespace cmcsurf

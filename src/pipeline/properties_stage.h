@@ -54,4 +54,9 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
 // grid-checked, and the same of the nodal twin as properties_nodal_*.
 nlohmann::json properties_summary(const nlohmann::json& properties);
 
+// The report.json keys of the --properties stage of `run` and `sweep`: the network of phase 1
+// of a run's field (and its nodal twin when `nodal`) as "properties", its summary scalars and
+// "properties_seconds".
+nlohmann::json run_properties_keys(const Field& phi, const std::string& surface, bool nodal);
+
 }  // namespace cmcsurf
