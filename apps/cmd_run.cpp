@@ -281,10 +281,12 @@ int run(RunCommand& cmd, const CLI::App& app) {
     PropertiesPicture youngs;  // youngs_modulus.png, drawn before the writes
     if (cmd.properties) {  // the network of phase 1 (docs/properties.md)
       extra.update(run_properties_keys(r.phi, p.surface, cmd.properties_nodal));
-      youngs = youngs_modulus_picture(
-          extra["properties"], fmt::format("{} network, porosity {:.4f}", p.surface,
-                                           extra["properties"]["porosity"].get<double>()));
-      if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
+      if (!cmd.pages.no_preview) {
+        youngs = youngs_modulus_picture(
+            extra["properties"], fmt::format("{} network, porosity {:.4f}", p.surface,
+                                             extra["properties"]["porosity"].get<double>()));
+        if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
+      }
     }
     // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
     std::optional<Scaffold> surface;

@@ -466,7 +466,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
       if (cmd.properties) {  // the member's network of phase 1 (docs/properties.md)
         extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties_nodal));
-        if (group_root) {  // the group's rank 0 writes the member's pictures
+        if (group_root && !cmd.pages.no_preview) {  // the group's rank 0 draws the pictures
           youngs = youngs_modulus_picture(
               extra["properties"], fmt::format("{} network, porosity {:.4f}", m.surface,
                                                extra["properties"]["porosity"].get<double>()));
@@ -684,7 +684,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     summary["complete"] = true;
     if (resuming) summary["resumed"] = {{"members_kept", kept}, {"members_resumed", resumed}};
     if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
-    if (cmd.properties) {  // the designer's chart and its Gibson-Ashby fits
+    if (cmd.properties && !cmd.no_plot) {  // the designer's chart and its Gibson-Ashby fits
       const PropertiesChart chart = properties_chart(
           reports, fmt::format("{}: effective stiffness and conductivity of the networks",
                                (dir.filename().empty() ? dir.parent_path() : dir)

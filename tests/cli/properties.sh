@@ -53,10 +53,10 @@ PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
 # (sweep.csv's columns), the same numbers as the command's.
-"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
+"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet \
   --no-report --properties-nodal --out "$work/gp" || { echo "FAIL: run --properties"; fail=1; }
 "$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet --no-preview \
-  --no-report --no-plot --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
+  --no-report --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
 "$bin" properties --from "$work/gp" --quiet --out "$work/gp.json" || fail=1
 python3 - "$work/gp.json" "$work/gp/report.json" "$work/sp/sweep.csv" "$work/sp/sweep.json" \
   <<'PY' || fail=1
@@ -76,6 +76,8 @@ assert f["valid"] and f["points"] == 2 and abs(f["exponent"] - n) < 1e-8 * abs(n
 assert abs(f["coefficient"] - e_[0] / rho[0] ** n) < 1e-8 * f["coefficient"], f
 assert 1.2 < n < 3.0, n  # bending-dominated network: Gibson-Ashby's 2, ASLI's 1.71
 assert os.path.exists(os.path.join(os.path.dirname(sys.argv[2]), "youngs_modulus.png"))
+sweep = os.path.dirname(sys.argv[4])  # --no-preview: no member draws youngs_modulus.png
+assert not [m for m in os.listdir(sweep) if os.path.exists(os.path.join(sweep, m, "youngs_modulus.png"))]
 e = sum(cmd["youngs_modulus"]) / 3
 assert abs(run["properties_youngs_modulus"] - e) < 1e-12, (run["properties_youngs_modulus"], e)
 assert run["properties"]["nodal"]["porosity"] > 0 and "properties_nodal_youngs_modulus" in run
