@@ -84,7 +84,8 @@ void draw_disc(Image& img, double x, double y, double r, Rgb c, bool filled) {
 void draw_color_bar(Image& img, int x, int y, int width, int height, double lo, double hi,
                     const std::string& caption) {
   draw_text(img, x, y - 14, 15, caption, kInk);
-  for (int j = 0; j < height; ++j) img.fill_rect(x, y + j, width, 1, diverging(1.0 - (j + 0.5) / height));
+  for (int j = 0; j < height; ++j)
+    img.fill_rect(x, y + j, width, 1, diverging(1.0 - (j + 0.5) / height));
   img.fill_rect(x - 1, y - 1, width + 2, 1, kGreyInk);
   img.fill_rect(x - 1, y + height, width + 2, 1, kGreyInk);
   img.fill_rect(x - 1, y - 1, 1, height + 2, kGreyInk);
@@ -251,7 +252,8 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
   if (series.empty()) return out;
   for (Series& s : series)
     for (auto* pts : {&s.youngs, &s.conductivity})
-      std::sort(pts->begin(), pts->end(), [](const Point& a, const Point& b) { return a.rho < b.rho; });
+      std::sort(pts->begin(), pts->end(),
+                [](const Point& a, const Point& b) { return a.rho < b.rho; });
 
   // The fits (Gibson-Ashby: y = C rho^n).
   std::map<std::tuple<std::string, std::string, std::string, std::string>, nlohmann::json> fit_of;

@@ -84,7 +84,8 @@ TEST(DirectionalModulus, NormalsPointOutwardsAndTrianglesFaceOut) {
       for (int a = 0; a < 3; ++a) p[k][a] = s.modulus[t[k]] * s.directions[t[k]][a];
     const Vector3 u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
     const Vector3 v{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-    const Vector3 c{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const Vector3 c{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                    u[0] * v[1] - u[1] * v[0]};
     EXPECT_GT(c[0] * p[0][0] + c[1] * p[0][1] + c[2] * p[0][2], 0.0);
   }
   EXPECT_THROW(directional_youngs_surface(e.compliance_voigt, 3), std::invalid_argument);

@@ -77,7 +77,8 @@ assert abs(f["coefficient"] - e_[0] / rho[0] ** n) < 1e-8 * f["coefficient"], f
 assert 1.2 < n < 3.0, n  # bending-dominated network: Gibson-Ashby's 2, ASLI's 1.71
 assert os.path.exists(os.path.join(os.path.dirname(sys.argv[2]), "youngs_modulus.png"))
 sweep = os.path.dirname(sys.argv[4])  # --no-preview: no member draws youngs_modulus.png
-assert not [m for m in os.listdir(sweep) if os.path.exists(os.path.join(sweep, m, "youngs_modulus.png"))]
+assert not [m for m in os.listdir(sweep)
+            if os.path.exists(os.path.join(sweep, m, "youngs_modulus.png"))]
 e = sum(cmd["youngs_modulus"]) / 3
 assert abs(run["properties_youngs_modulus"] - e) < 1e-12, (run["properties_youngs_modulus"], e)
 assert run["properties"]["nodal"]["porosity"] > 0 and "properties_nodal_youngs_modulus" in run

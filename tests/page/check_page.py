@@ -145,7 +145,8 @@ def main():
             assert float(value) == float(want), (path, value, want)
             assert shown_matches(text, want), (path, text, want)
             numbers += 1
-        columns = 1 + ("nodal" in run_report["properties"]) + ("nodal_offset" in run_report["properties"])
+        solids = run_report["properties"]
+        columns = 1 + ("nodal" in solids) + ("nodal_offset" in solids)
         assert -parsed.properties_columns == columns + 1, (parsed.properties_columns, columns)
         assert numbers >= 20 * columns, f"only {numbers} property numbers on the page"
         checked += numbers
