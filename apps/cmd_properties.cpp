@@ -11,7 +11,9 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "io/json_file.h"
+#include "io/png.h"
 #include "mesh_options.h"
+#include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
 #include "run_control.h"
 
@@ -39,31 +41,6 @@ struct PropertiesCommand {
   bool quiet = false;
 };
 
-// --material E_GPa,nu or E_GPa alone (nu 0.3).
-void parse_material(const std::string& text, PropertiesRequest& r) {
-  if (text.empty()) return;
-  std::stringstream in(text);
-  std::string e, nu, extra;
-  std::getline(in, e, ',');
-  std::getline(in, nu, ',');
-  std::getline(in, extra);
-  try {
-    std::size_t used = 0;
-    r.youngs_modulus_gpa = std::stod(e, &used);
-    if (used != e.size()) throw std::invalid_argument(e);
-    if (!nu.empty()) {
-      r.poisson_ratio = std::stod(nu, &used);
-      if (used != nu.size()) throw std::invalid_argument(nu);
-    }
-  } catch (const std::exception&) {
-    throw UsageError(fmt::format("--material: got '{}'; accepted: E_GPa[,nu], e.g. 110,0.34 "
-                                 "(Ti-6Al-4V)",
-                                 text));
-  }
-  if (!extra.empty())
-    throw UsageError(fmt::format("--material: got '{}'; accepted: E_GPa[,nu]", text));
-}
-
 PropertiesRequest request_of(const PropertiesCommand& cmd) {
   PropertiesRequest r;
   r.cell_size = cmd.cell_size;
@@ -74,7 +51,11 @@ PropertiesRequest request_of(const PropertiesCommand& cmd) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  parse_material(cmd.material, r);
+  try {
+    set_properties_material(r, cmd.material);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   r.compare_nodal = cmd.compare_nodal;
   r.grid_check = cmd.grid_check;
   r.tolerance = cmd.tolerance;
@@ -167,11 +148,22 @@ int properties(PropertiesCommand& cmd) {
   j["source"] = cmd.from;
   if (!r.surface.empty()) j["surface"] = r.surface;
   j["version"] = version_string();
+  // The directional Young's modulus beside the JSON (FILE-youngs.png), drawn before the writes.
+  const PropertiesPicture picture = youngs_modulus_picture(
+      j, fmt::format("{} {}, porosity {:.4f}", r.surface.empty() ? "field" : r.surface,
+                     j.value("solid", std::string()), j.value("porosity", 0.0)));
+  const fs::path picture_path = out.parent_path() / (out.stem().string() + "-youngs.png");
+  if (!picture.image.rgb.empty()) {
+    j["youngs_picture"] = picture_path.filename().string();
+    j["youngs_picture_seconds"] = picture.seconds;
+  }
   write_json_atomic(out, j);
+  if (!picture.image.rgb.empty()) write_png(picture_path, picture.image);
   if (!cmd.quiet) {
     print_summary(j);
-    std::cerr << fmt::format("properties in {:.1f} s; wrote {}\n",
-                             j["properties_seconds"].get<double>(), out.string());
+    std::cerr << fmt::format("properties in {:.1f} s; wrote {}{}\n",
+                             j["properties_seconds"].get<double>(), out.string(),
+                             picture.image.rgb.empty() ? "" : " and " + picture_path.string());
   }
   return 0;
 }

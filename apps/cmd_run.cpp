@@ -23,6 +23,7 @@
 #include "pipeline/distributed_mesh.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
@@ -277,8 +278,16 @@ int run(RunCommand& cmd, const CLI::App& app) {
     if (resume) extra["resumed_from_step"] = resume->step;
     if (preview) extra["preview_seconds"] = preview->seconds;
     if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
-    if (cmd.properties)  // the network of phase 1 (docs/properties.md)
+    PropertiesPicture youngs;  // youngs_modulus.png, drawn before the writes
+    if (cmd.properties) {  // the network of phase 1 (docs/properties.md)
       extra.update(run_properties_keys(r.phi, p.surface, cmd.properties_nodal));
+      if (!cmd.pages.no_preview) {
+        youngs = youngs_modulus_picture(
+            extra["properties"], fmt::format("{} network, porosity {:.4f}", p.surface,
+                                             extra["properties"]["porosity"].get<double>()));
+        if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
+      }
+    }
     // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
     std::optional<Scaffold> surface;
     if (!cmd.mesh_format.empty()) {
@@ -304,6 +313,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
         [&](const nlohmann::json& report_to_be) {
           if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
           if (preview) write_png(dir / "preview.png", preview->image);
+          if (!youngs.image.rgb.empty()) write_png(dir / kYoungsPictureName, youngs.image);
           if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
         },
         field_seconds);

@@ -27,6 +27,7 @@
 #include "mesh/scaffold_part.h"
 #include "mesh/shape.h"
 #include "pipeline/member_topology.h"
+#include "pipeline/properties_stage.h"
 #include "pipeline/scaffold_compare.h"
 #include "mesh_options.h"
 #include "run_control.h"
@@ -59,6 +60,8 @@ struct ScaffoldCommand {
   double tolerance = 0.0;
   double min_feature = 0.0;
   bool compare_nodal = false;
+  bool properties = false;  // --properties: the unit cell's stiffness and conductivities
+  std::string material;     // --material E_GPa[,nu]
   bool accept_topology_change = false;
   std::string shape;
   double skin = 0.0;
@@ -242,6 +245,22 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
   if (cmd.compare_nodal && ramp)
     throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
+  // The unit cell's properties (docs/properties.md): the request checked before any work.
+  PropertiesRequest properties_request;
+  if (!cmd.material.empty() && !cmd.properties)
+    throw UsageError("--material: only with --properties");
+  if (cmd.properties) {
+    if (ramp)
+      throw UsageError("--properties: takes one --porosity, not a ramp (each member's cell "
+                       "differs; `cmcsurf properties` computes any one of them)");
+    try {
+      set_properties_material(properties_request, cmd.material);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    if (const std::string why = check_properties_request(properties_request); !why.empty())
+      throw UsageError(why);
+  }
   if (!(cmd.cell_size >= kMinCellSize && cmd.cell_size <= kMaxCellSize))
     throw UsageError(fmt::format("--cell-size: got {}; accepted: {:g} .. {:g} (in --units; a "
                                  "smaller unit for smaller cells)",
@@ -368,6 +387,27 @@ int run_scaffold(ScaffoldCommand& cmd) {
     part.report["compare_nodal"] =
         compare_with_nodal(phi, cmd.params, d, part, shape ? &*shape : nullptr);
   }
+  if (cmd.properties) {
+    // The unit cell of the part as built: phase 1 of the member (a network) or the wall of
+    // the part's solved thickness around its surface (a sheet).
+    if (!cmd.quiet) std::cerr << "computing the unit cell's properties (--properties)\n";
+    PropertiesRequest pr = properties_request;
+    pr.cell_size = d.cell_size;
+    pr.units = d.units;
+    pr.surface = cmd.surface;
+    pr.compare_nodal = cmd.compare_nodal;
+    try {
+      set_properties_solid(pr, cmd.solid, 1, NAN,
+                           d.solid == SolidKind::kSheet
+                               ? part.report["sheet"]["thickness"].get<double>()
+                               : NAN);
+      part.report["properties"] = compute_properties(phi, pr, [&](const std::string& line) {
+        if (!cmd.quiet) std::cerr << "  " << line << "\n";
+      });
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("--properties: {}", e.what()));
+    }
+  }
   const nlohmann::json& r = part.report;
   plan.meta.title = fmt::format("cmcsurf {} {} scaffold", cmd.surface, cmd.solid);
   plan.meta.description = fmt::format(
@@ -450,6 +490,44 @@ int run_scaffold(ScaffoldCommand& cmd) {
       if (c["cmc"].contains("thickness"))
         row("sheet thickness (" + d.units + ")", c["cmc"]["thickness"], c["nodal"]["thickness"]);
     }
+    if (r.contains("properties")) {
+      // One line per solid: the CMC cell, then its nodal twins when compared.
+      const auto& pj = r["properties"];
+      auto line = [&](const std::string& name, const nlohmann::json& p) {
+        auto m3 = [&](const char* key) {  // mean of x, y, z or of a tensor's diagonal
+          const auto& v = p[key];
+          return v[0].is_array() ? (v[0][0].get<double>() + v[1][1].get<double>() +
+                                    v[2][2].get<double>()) / 3.0
+                                 : (v[0].get<double>() + v[1].get<double>() +
+                                    v[2].get<double>()) / 3.0;
+        };
+        std::string text = fmt::format("{:<13} rel. density {:.4f}", name,
+                                       p["relative_density"].get<double>());
+        if (p.contains("youngs_modulus"))
+          text += fmt::format("; E/E_s {:.4g} (min {:.4g}, max {:.4g}), G/E_s {:.4g}, nu {:.3g}, "
+                              "Zener {:.3g}, HS bulk {:.2f}",
+                              m3("youngs_modulus"), p["youngs_modulus_min"].get<double>(),
+                              p["youngs_modulus_max"].get<double>(), m3("shear_modulus"),
+                              m3("poisson_ratio"), p["zener_ratio"].get<double>(),
+                              p["fraction_of_bound"]["bulk_modulus"].get<double>());
+        if (p.contains("youngs_modulus_gpa"))
+          text += fmt::format(", E {:.4g} GPa", m3("youngs_modulus_gpa"));
+        if (p.contains("conductivity_solid"))
+          text += fmt::format("; k_solid/k_s {:.4g} (HS {:.2f}), k_pore {:.4g}",
+                              m3("conductivity_solid"),
+                              p["fraction_of_bound"]["conductivity_solid"].get<double>(),
+                              m3("conductivity_pore"));
+        std::cerr << text << "\n";
+        for (const auto& w : p["warnings"])
+          std::cerr << fmt::format("warning ({}): {}\n", name, w.get<std::string>());
+      };
+      std::cerr << fmt::format("unit cell properties (--properties, {:.1f} s; / the solid's E_s, "
+                               "k_s; mean of x, y, z):\n",
+                               pj["properties_seconds"].get<double>());
+      line("CMC " + cmd.solid, pj);
+      if (pj.contains("nodal")) line("nodal", pj["nodal"]);
+      if (pj.contains("nodal_offset")) line("nodal offset", pj["nodal_offset"]);
+    }
     if (r.contains("decimation")) {
       const auto& dm = r["decimation"];
       if (dm["applied"].get<bool>())
@@ -518,6 +596,13 @@ CommandFn add_scaffold_command(CLI::App& root) {
                 "Also build the same design from the nodal approximation at the member's volume "
                 "fraction and report both side by side (curvature, wall and pore spread, "
                 "specific surface) in FILE.json");
+  app->add_flag("--properties", cmd->properties,
+                "Also the unit cell's effective stiffness and conductivities (the part's "
+                "network or sheet at its thickness; with --compare-nodal the nodal cell's too) "
+                "in FILE.json's properties (docs/properties.md)");
+  app->add_option("--material", cmd->material,
+                  "With --properties: the solid's E_GPa[,nu] (nu 0.3 otherwise), moduli also "
+                  "in GPa");
   app->add_flag("--accept-topology-change", cmd->accept_topology_change,
                 "Use a member whose topology (Euler characteristic) differs from its family's "
                 "(the nodal start's); refused by default");

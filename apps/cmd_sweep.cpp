@@ -25,6 +25,7 @@
 #include "parallel/decomposition.h"
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
+#include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
@@ -283,7 +284,7 @@ std::string member_name_at(const SweepParams& sp, int index) {
 // they run.
 void clear_earlier_sweep(const fs::path& dir, const SweepParams& sp) {
   for (const char* name : {"sweep.csv", "families.png", "families.svg", "gallery.png",
-                           "report.html"}) {
+                           kPropertiesChartName, "report.html"}) {
     std::error_code ec;
     fs::remove(dir / name, ec);
     if (ec)
@@ -448,6 +449,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     // rank 0 writes the rest. No process holds the whole grid (docs/scaling.md, "Output").
     std::string failure;
     std::optional<RunOutputs> outputs;
+    PropertiesPicture youngs;  // youngs_modulus.png with --properties
     nlohmann::json extra = {{"volume_fraction_target", m.alpha},  // also if continued
                             {"member", m.name},
                             {"started_from", m.started_from}};
@@ -462,8 +464,15 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
-      if (cmd.properties)  // the member's network of phase 1 (docs/properties.md)
+      if (cmd.properties) {  // the member's network of phase 1 (docs/properties.md)
         extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties_nodal));
+        if (group_root && !cmd.pages.no_preview) {  // the group's rank 0 draws the pictures
+          youngs = youngs_modulus_picture(
+              extra["properties"], fmt::format("{} network, porosity {:.4f}", m.surface,
+                                               extra["properties"]["porosity"].get<double>()));
+          if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
+        }
+      }
       if (gd->distributed())  // field.pvti: one piece per process of the group
         field_seconds = write_run_field_pieces(dir / m.name, m.params, r, outputs->quality,
                                                threads, cmd.float32, extra);
@@ -481,6 +490,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
             cmd.float32, extra,
             [&](const nlohmann::json& report_to_be) {
               if (preview) write_png(dir / m.name / "preview.png", preview->image);
+              if (!youngs.image.rgb.empty())
+                write_png(dir / m.name / kYoungsPictureName, youngs.image);
               if (outputs->page) write_run_page(dir / m.name, &*outputs->page, &report_to_be);
             },
             field_seconds);
@@ -673,6 +684,18 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     summary["complete"] = true;
     if (resuming) summary["resumed"] = {{"members_kept", kept}, {"members_resumed", resumed}};
     if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
+    if (cmd.properties && !cmd.no_plot) {  // the designer's chart and its Gibson-Ashby fits
+      const PropertiesChart chart = properties_chart(
+          reports, fmt::format("{}: effective stiffness and conductivity of the networks",
+                               (dir.filename().empty() ? dir.parent_path() : dir)
+                                   .filename()
+                                   .string()));
+      if (!chart.image.rgb.empty()) {
+        write_png(dir / kPropertiesChartName, chart.image);
+        summary["properties_chart"] = {
+            {"file", kPropertiesChartName}, {"seconds", chart.seconds}, {"fits", chart.fits}};
+      }
+    }
     write_json_atomic(dir / "sweep.json", summary);
     if (!cmd.pages.no_report) write_sweep_page(dir);
     if (!cmd.quiet)

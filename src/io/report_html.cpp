@@ -106,6 +106,8 @@ const std::vector<NumberRow>& run_number_rows() {
       {"wall_seconds", "solve (s)", "{:.3g}", ""},
       {"measure_seconds", "measures (s)", "{:.3g}", ""},
       {"quality_seconds", "quality stage (s)", "{:.3g}", ""},
+      {"properties_seconds", "properties stage (s)", "{:.3g}", ""},
+      {"youngs_picture_seconds", "Young's modulus picture (s)", "{:.3g}", ""},
       {"preview_seconds", "preview stage (s)", "{:.3g}", ""},
       {"page_seconds", "report page's meshes (s)", "{:.3g}", ""},
       {"write_seconds", "writing the files (s)", "{:.3g}", ""},
@@ -126,6 +128,105 @@ std::string html_escape(std::string_view s) {
     }
   }
   return out;
+}
+
+namespace {
+
+struct PropertyRow {
+  const char* pointer;  // within one solid's dictionary
+  const char* label;
+  const char* format;   // "" for a direction (three numbers)
+};
+
+// What a designer compares (docs/properties.md names the keys), in the page's order.
+constexpr PropertyRow kPropertyRows[] = {
+    {"/relative_density", "relative density ρ", "{:.5f}"},
+    {"/porosity", "porosity", "{:.5f}"},
+    {"/thickness", "sheet thickness", "{:.5g}"},
+    {"/youngs_modulus/0", "Young's modulus E_x / E_s", "{:.5g}"},
+    {"/youngs_modulus/1", "Young's modulus E_y / E_s", "{:.5g}"},
+    {"/youngs_modulus/2", "Young's modulus E_z / E_s", "{:.5g}"},
+    {"/youngs_modulus_gpa/0", "Young's modulus E_x (GPa)", "{:.5g}"},
+    {"/shear_modulus/0", "shear modulus G_yz / E_s", "{:.5g}"},
+    {"/shear_modulus/1", "shear modulus G_xz / E_s", "{:.5g}"},
+    {"/shear_modulus/2", "shear modulus G_xy / E_s", "{:.5g}"},
+    {"/poisson_ratio/0", "Poisson ratio ν_xy", "{:.4f}"},
+    {"/poisson_ratio/1", "Poisson ratio ν_yz", "{:.4f}"},
+    {"/poisson_ratio/2", "Poisson ratio ν_zx", "{:.4f}"},
+    {"/bulk_modulus", "bulk modulus K / E_s", "{:.5g}"},
+    {"/zener_ratio", "Zener ratio 2 C44 / (C11 − C12)", "{:.4g}"},
+    {"/youngs_modulus_min", "E min / E_s", "{:.5g}"},
+    {"/youngs_modulus_min_direction", "E min along", ""},
+    {"/youngs_modulus_max", "E max / E_s", "{:.5g}"},
+    {"/youngs_modulus_max_direction", "E max along", ""},
+    {"/conductivity_solid/0/0", "conductivity of the solid k_xx / k_s", "{:.5g}"},
+    {"/conductivity_solid/1/1", "conductivity of the solid k_yy / k_s", "{:.5g}"},
+    {"/conductivity_solid/2/2", "conductivity of the solid k_zz / k_s", "{:.5g}"},
+    {"/conductivity_pore/0/0", "conductivity of the pores k_xx / k_f", "{:.5g}"},
+    {"/conductivity_pore/1/1", "conductivity of the pores k_yy / k_f", "{:.5g}"},
+    {"/conductivity_pore/2/2", "conductivity of the pores k_zz / k_f", "{:.5g}"},
+    {"/tortuosity_pore/0", "pore tortuosity (x)", "{:.4g}"},
+    {"/fraction_of_bound/bulk_modulus", "K / Hashin-Shtrikman upper bound", "{:.4f}"},
+    {"/fraction_of_bound/shear_modulus", "mean G / HS upper bound", "{:.4f}"},
+    {"/fraction_of_bound/youngs_modulus", "mean E / HS upper bound", "{:.4f}"},
+    {"/fraction_of_bound/conductivity_solid", "k solid / HS upper bound", "{:.4f}"},
+    {"/fraction_of_bound/conductivity_pore", "k pores / HS upper bound", "{:.4f}"},
+};
+
+// /key/i... -> /key_error/i... (the grid check's estimate of the same number).
+std::string error_pointer(const std::string& pointer) {
+  const std::size_t slash = pointer.find('/', 1);
+  return slash == std::string::npos ? pointer + "_error"
+                                    : pointer.substr(0, slash) + "_error" + pointer.substr(slash);
+}
+
+}  // namespace
+
+std::string properties_table_html(const nlohmann::json& properties) {
+  std::vector<std::pair<std::string, std::string>> sides = {{"CMC", ""}};
+  if (properties.contains("nodal")) sides.push_back({"nodal", "/nodal"});
+  if (properties.contains("nodal_offset")) sides.push_back({"nodal offset", "/nodal_offset"});
+  std::string out = "<table class=\"numbers\" id=\"properties\">\n<tr><th></th>";
+  for (const auto& s : sides) out += "<th>" + html_escape(s.first) + "</th>";
+  out += "</tr>\n";
+  for (const PropertyRow& row : kPropertyRows) {
+    std::string cells;
+    bool any = false;
+    for (const auto& [name, prefix] : sides) {
+      const nlohmann::json::json_pointer at(prefix + row.pointer);
+      const std::string path = "/properties" + prefix + row.pointer;
+      if (!properties.contains(at)) {
+        cells += fmt::format("<td data-path=\"{}\">–</td>", html_escape(path));
+        continue;
+      }
+      any = true;
+      const nlohmann::json& v = properties[at];
+      if (std::string(row.format).empty() && v.is_array() && v.size() == 3) {
+        // E(d) = E(-d): the sign that makes the largest component positive, and no "-0.000".
+        double d[3] = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+        const int big = std::abs(d[0]) >= std::abs(d[1]) && std::abs(d[0]) >= std::abs(d[2])
+                            ? 0
+                            : (std::abs(d[1]) >= std::abs(d[2]) ? 1 : 2);
+        const double sign = d[big] < 0 ? -1.0 : 1.0;
+        for (double& x : d) x = std::abs(x) < 5e-4 ? 0.0 : sign * x;
+        cells += fmt::format("<td data-path=\"{}\">[{:.3f} {:.3f} {:.3f}]</td>", html_escape(path),
+                             d[0], d[1], d[2]);
+        continue;
+      }
+      if (!v.is_number()) {
+        cells += fmt::format("<td data-path=\"{}\">–</td>", html_escape(path));
+        continue;
+      }
+      std::string text = format_number(row.format, v.get<double>());
+      const nlohmann::json::json_pointer error(prefix + error_pointer(row.pointer));
+      if (properties.contains(error) && properties[error].is_number())
+        text += fmt::format(" ± {:.1e}", properties[error].get<double>());
+      cells += fmt::format("<td data-path=\"{}\" data-value=\"{:.17g}\">{}</td>",
+                           html_escape(path), v.get<double>(), html_escape(text));
+    }
+    if (any) out += fmt::format("<tr><th>{}</th>{}</tr>\n", html_escape(row.label), cells);
+  }
+  return out + "</table>\n";
 }
 
 std::string format_number(const std::string& format, double x) {

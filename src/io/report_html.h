@@ -42,6 +42,13 @@ std::string format_number(const std::string& format, double x);
 std::string numbers_table_html(const nlohmann::json& report, const std::vector<NumberRow>& rows,
                                const std::string& id);
 
+// The properties section of a run page: report.json's `properties` (docs/properties.md) as a
+// table, one row per number (stiffness, conductivities, fractions of the Hashin-Shtrikman
+// bounds), one column per solid (CMC, and the nodal twins when present). Each value cell carries
+// data-path, the JSON pointer of its number in report.json, and data-value with all 17 digits;
+// "± e" where the dictionary has the grid check's *_error.
+std::string properties_table_html(const nlohmann::json& properties);
+
 std::string html_escape(std::string_view s);
 
 struct ReportPage {

@@ -20,7 +20,8 @@ void clear_run_outputs(const std::filesystem::path& dir, bool keep_field) {
   namespace fs = std::filesystem;
   // report.json first: from here until it is written again the folder reads as incomplete.
   std::vector<fs::path> stale = {dir / "report.json"};
-  for (const char* name : {"history.csv", "curvature_histogram.csv", "preview.png", "report.html"})
+  for (const char* name : {"history.csv", "curvature_histogram.csv", "preview.png",
+                           "youngs_modulus.png", "report.html"})
     stale.push_back(dir / name);
   for (const char* ext : {"stl", "ply", "obj", "3mf"}) {
     stale.push_back(dir / (std::string("surface.") + ext));

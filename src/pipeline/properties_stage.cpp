@@ -221,6 +221,30 @@ void set_properties_only(PropertiesRequest& r, const std::string& only) {
   }
 }
 
+void set_properties_material(PropertiesRequest& r, const std::string& text) {
+  if (text.empty()) return;
+  const std::size_t comma = text.find(',');
+  const std::string e = text.substr(0, comma);
+  const std::string nu = comma == std::string::npos ? "" : text.substr(comma + 1);
+  auto number = [&](const std::string& part) {
+    std::size_t used = 0;
+    double v = NAN;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size())
+      throw std::invalid_argument(fmt::format(
+          "--material: got '{}'; accepted: E_GPa[,nu], e.g. 110,0.34 (Ti-6Al-4V)", text));
+    return v;
+  };
+  const double youngs = number(e);
+  const double poisson = comma == std::string::npos ? 0.3 : number(nu);
+  r.youngs_modulus_gpa = youngs;
+  r.poisson_ratio = poisson;
+}
+
 std::string check_properties_request(const PropertiesRequest& r) {
   if (!std::isnan(r.youngs_modulus_gpa) &&
       !(r.youngs_modulus_gpa > 0.0 && r.youngs_modulus_gpa <= 1e4))

@@ -35,6 +35,10 @@ struct PropertiesRequest {
 void set_properties_solid(PropertiesRequest& r, const std::string& solid, long long phase,
                           double porosity, double thickness);
 void set_properties_only(PropertiesRequest& r, const std::string& only);
+// --material E_GPa[,nu] (nu 0.3 when left out; "" leaves the request as it is): the request's
+// youngs_modulus_gpa and poisson_ratio, or std::invalid_argument naming --material and the
+// accepted form (the ranges are check_properties_request's).
+void set_properties_material(PropertiesRequest& r, const std::string& material);
 
 // Why the request cannot be computed ("" if it can), naming the option: ranges of
 // --material, --tolerance, --porosity/--thickness, --only.

@@ -17,6 +17,7 @@
 #include "io/report_html.h"
 #include "io/vti.h"
 #include "pipeline/preview.h"
+#include "pipeline/properties_pictures.h"
 #include "pipeline/sweep.h"
 
 namespace cmcsurf {
@@ -135,6 +136,15 @@ double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces,
       "diverging scale centred on H. Drag to rotate, scroll to zoom.",
       report.value("grid", 0), number_or(report, "epsilon", 0.0));
   page.body = "<h2>Key numbers</h2>\n" + numbers_table_html(report, run_number_rows(), "numbers");
+  if (report.contains("properties") && report["properties"].is_object()) {
+    // The --properties stage: the network's stiffness and conductivities beside its nodal
+    // twin's, and the directional Young's modulus when the run drew it.
+    page.body += "<h2>Stiffness and conductivity of the network (docs/properties.md)</h2>\n" +
+                 properties_table_html(report["properties"]);
+    if (fs::exists(dir / kYoungsPictureName))
+      page.body += "<img class=\"plot\" alt=\"youngs_modulus\" src=\"" +
+                   png_data_url(dir / kYoungsPictureName) + "\">\n";
+  }
   page.body +=
       "<h2>Convergence</h2>\n<div class=\"charts\" id=\"history\"></div>\n"
       "<h2>Local mean curvature</h2>\n<div class=\"charts\" id=\"histogram\"></div>\n";
@@ -222,6 +232,10 @@ double write_sweep_page(const fs::path& dir) {
   if (fs::exists(dir / "families.png"))
     page.body += "<h2>Families (Fig. 11)</h2>\n<img class=\"plot\" alt=\"families\" src=\"" +
                  png_data_url(dir / "families.png") + "\">\n";
+  if (fs::exists(dir / kPropertiesChartName))
+    page.body += "<h2>Stiffness and conductivity against density (docs/properties.md)</h2>\n"
+                 "<img class=\"plot\" alt=\"properties_chart\" src=\"" +
+                 png_data_url(dir / kPropertiesChartName) + "\">\n";
   if (fs::exists(dir / "gallery.png"))
     page.body += "<h2>Gallery</h2>\n<img class=\"plot\" alt=\"gallery\" src=\"" +
                  png_data_url(dir / "gallery.png") + "\">\n";

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # cmcsurf properties (docs/properties.md): the stiffness and conductivities of a 24^3 gyroid's
 # network and sheet, with the nodal twins and the grid check; every number in its range (a
-# cubic member gives a cubic, symmetric tensor below its Hashin-Shtrikman bound), and bad
-# options refused with exit 2, naming the option, writing nothing.
+# cubic member gives a cubic, symmetric tensor below its Hashin-Shtrikman bound), the directional
+# Young's modulus pictures beside the JSON files, run/sweep --properties (youngs_modulus.png, the
+# designer's chart and its fit, exact through two members), and bad options refused with exit 2,
+# naming the option, writing nothing.
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
@@ -13,9 +15,18 @@ export OMP_NUM_THREADS=1
   { echo "FAIL: network"; fail=1; }
 "$bin" properties --from "$work/g/field.vti" --solid sheet --porosity 0.7 --compare-nodal \
   --grid-check --quiet --out "$work/sheet.json" || { echo "FAIL: sheet"; fail=1; }
-python3 - "$work/g/properties.json" "$work/sheet.json" <<'PY' || fail=1
-import json, sys
+python3 - "$work/g/properties.json" "$work/sheet.json" "$(dirname "$0")/../page" <<'PY' || fail=1
+import json, os, sys
 net, sheet = (json.load(open(f)) for f in sys.argv[1:3])
+sys.path.insert(0, sys.argv[3])
+from png_check import read_png, region_stats
+for f, j in ((sys.argv[1], net), (sys.argv[2], sheet)):
+    picture = os.path.join(os.path.dirname(f), j["youngs_picture"])
+    assert j["youngs_picture"] == os.path.basename(f)[:-5] + "-youngs.png", j["youngs_picture"]
+    w, h, rows = read_png(picture)
+    var, coloured = region_stats(rows, 0, 0, w, h)
+    assert w > 600 and h > 600 and var > 100 and coloured > 0.1, (picture, w, h, var, coloured)
+    assert j["youngs_picture_seconds"] > 0
 def cubic(p, tol):
     c = p["stiffness_voigt"]
     for i in range(6):
@@ -42,15 +53,32 @@ PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
 # (sweep.csv's columns), the same numbers as the command's.
-"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
+"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet \
   --no-report --properties-nodal --out "$work/gp" || { echo "FAIL: run --properties"; fail=1; }
-"$bin" sweep --surface G --volume-fractions 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
-  --no-report --no-plot --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
+"$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet --no-preview \
+  --no-report --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
 "$bin" properties --from "$work/gp" --quiet --out "$work/gp.json" || fail=1
-python3 - "$work/gp.json" "$work/gp/report.json" "$work/sp/sweep.csv" <<'PY' || fail=1
-import csv, json, sys
+python3 - "$work/gp.json" "$work/gp/report.json" "$work/sp/sweep.csv" "$work/sp/sweep.json" \
+  <<'PY' || fail=1
+import csv, json, math, os, sys
 cmd, run = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
-row = next(csv.DictReader(open(sys.argv[3])))
+rows = list(csv.DictReader(open(sys.argv[3])))
+row = rows[0]
+# The chart's Gibson-Ashby fits through two members are the line through their points.
+chart = json.load(open(sys.argv[4]))["properties_chart"]
+assert chart["file"] == "properties_chart.png" and chart["seconds"] > 0
+assert os.path.getsize(os.path.join(os.path.dirname(sys.argv[4]), chart["file"])) > 10000
+(f,) = [f for f in chart["fits"] if f["part"] == "cmc" and f["quantity"] == "youngs_modulus"]
+rho = [float(r["properties_relative_density"]) for r in rows]
+e_ = [float(r["properties_youngs_modulus"]) for r in rows]
+n = math.log(e_[1] / e_[0]) / math.log(rho[1] / rho[0])
+assert f["valid"] and f["points"] == 2 and abs(f["exponent"] - n) < 1e-8 * abs(n), (f, n)
+assert abs(f["coefficient"] - e_[0] / rho[0] ** n) < 1e-8 * f["coefficient"], f
+assert 1.2 < n < 3.0, n  # bending-dominated network: Gibson-Ashby's 2, ASLI's 1.71
+assert os.path.exists(os.path.join(os.path.dirname(sys.argv[2]), "youngs_modulus.png"))
+sweep = os.path.dirname(sys.argv[4])  # --no-preview: no member draws youngs_modulus.png
+assert not [m for m in os.listdir(sweep)
+            if os.path.exists(os.path.join(sweep, m, "youngs_modulus.png"))]
 e = sum(cmd["youngs_modulus"]) / 3
 assert abs(run["properties_youngs_modulus"] - e) < 1e-12, (run["properties_youngs_modulus"], e)
 assert run["properties"]["nodal"]["porosity"] > 0 and "properties_nodal_youngs_modulus" in run

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # report.html (docs/report.md) of a run and of a sweep, opened by headless Chromium from a file
 # URL with no network: no script or console error, a non-blank WebGL view, the numbers equal to
-# report.json; the sweep's gallery.png is a valid picture. Skipped without Chromium
+# report.json (the --properties table too, with its nodal column, and youngs_modulus.png and the
+# sweep's properties_chart.png on the pages); the sweep's gallery.png is a valid picture.
+# Skipped without Chromium
 # (scripts/test.sh installs Debian's chromium).
 set -eu
 bin="$1"
@@ -10,11 +12,12 @@ chromium=$(command -v chromium || command -v chromium-browser || true)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$bin" run --surface G --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 --quiet \
-  --out "$work/g"
+  --properties-nodal --out "$work/g"
 "$bin" sweep --surface P --volume-fractions 0.4,0.6 --grid 16 --epsilon 0.04 --max-steps 20 \
-  --quiet --out "$work/sweep"
-for f in g/report.html g/preview.png sweep/report.html sweep/gallery.png sweep/P_0.40/report.html \
-         sweep/P_0.60/preview.png; do
+  --quiet --properties --out "$work/sweep"
+for f in g/report.html g/preview.png g/youngs_modulus.png sweep/report.html sweep/gallery.png \
+         sweep/P_0.40/report.html sweep/P_0.60/preview.png sweep/P_0.60/youngs_modulus.png \
+         sweep/properties_chart.png; do
   [ -s "$work/$f" ] || { echo "FAIL: missing $f"; exit 1; }
 done
 # Self-contained: nothing is fetched (no src= or href= leaving the file).

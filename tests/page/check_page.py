@@ -4,12 +4,16 @@ no console.error, WebGL available), no "Uncaught" error in the browser's log, th
 screenshot is not blank (grey-level variance and coloured fraction of the canvas's box), every
 number cell (data-key, data-value) equals the report.json it came from, and the other views
 (report.html#nodal&tiles=2, #member=NAME&tiles=3, ...) load with no error and show what they
-name.
+name. A run page with report.json's `properties` has its table (id "properties"): every cell's
+data-path is a JSON pointer into report.json and its data-value and text equal that number, with
+a column per solid (CMC, nodal); every picture on the page (img with alt) is a PNG that is not
+blank, and a folder's youngs_modulus.png / properties_chart.png is on its page.
 
 usage: check_page.py CHROMIUM report.html WORKDIR [MEMBER_DIR_PARENT]
 For a run page the numbers are compared with report.json beside report.html; for a sweep page
 (rows data-member=NAME) with NAME/report.json.
 """
+import base64
 import html.parser
 import json
 import os
@@ -42,6 +46,8 @@ class Cells(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
         self.status, self.cells, self.member, self._cell = None, [], None, None
+        self.paths, self.images, self.properties_columns, self._in_properties = [], {}, 0, False
+        self._path = None
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -51,15 +57,51 @@ class Cells(html.parser.HTMLParser):
             self.member = a.get("data-member")
         if tag == "td" and "data-key" in a:
             self._cell = [self.member, a["data-key"], a.get("data-value"), ""]
+        if tag == "td" and "data-path" in a:
+            self._path = [a["data-path"], a.get("data-value"), ""]
+        if tag == "table":
+            self._in_properties = a.get("id") == "properties"
+        if tag == "th" and self._in_properties and self.properties_columns >= 0:
+            self.properties_columns += 1
+        if tag == "img" and a.get("alt"):
+            self.images[a["alt"]] = a.get("src", "")
 
     def handle_data(self, data):
         if self._cell is not None:
             self._cell[3] += data
+        if self._path is not None:
+            self._path[2] += data
 
     def handle_endtag(self, tag):
         if tag == "td" and self._cell is not None:
             self.cells.append(tuple(self._cell))
             self._cell = None
+        if tag == "td" and self._path is not None:
+            self.paths.append(tuple(self._path))
+            self._path = None
+        if tag == "tr" and self._in_properties and self.properties_columns > 0:
+            self.properties_columns = -self.properties_columns  # the header row is counted
+        if tag == "table":
+            self._in_properties = False
+
+
+def pointer(doc, path):
+    """The value at a JSON pointer (RFC 6901) in doc."""
+    for part in path.split("/")[1:]:
+        part = part.replace("~1", "/").replace("~0", "~")
+        doc = doc[int(part)] if isinstance(doc, list) else doc[part]
+    return doc
+
+
+def shown_matches(text, want):
+    """The cell's text shows want to its printed digits (a trailing % is a percentage)."""
+    shown = text.split("±")[0].strip().rstrip("%")
+    scale = 100.0 if text.strip().endswith("%") else 1.0
+    digits = shown.lstrip("+-").split("e")[0].split(".")
+    ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
+    if "e" in shown:
+        ulp *= 10.0 ** int(shown.split("e")[1])
+    return abs(float(shown) - scale * float(want)) <= 0.51 * ulp
 
 
 def main():
@@ -91,6 +133,37 @@ def main():
         assert abs(float(shown) - scale * float(want)) <= 0.51 * ulp, (key, text, want)
         checked += 1
     assert checked >= 5, f"only {checked} numbers on the page"
+    # The properties table: every number equals report.json's at its pointer.
+    run_report = json.load(open(os.path.join(folder, "report.json"))) \
+        if os.path.exists(os.path.join(folder, "report.json")) else {}
+    if "properties" in run_report:
+        numbers = 0
+        for path, value, text in parsed.paths:
+            if value is None:
+                continue
+            want = pointer(run_report, path)
+            assert float(value) == float(want), (path, value, want)
+            assert shown_matches(text, want), (path, text, want)
+            numbers += 1
+        solids = run_report["properties"]
+        columns = 1 + ("nodal" in solids) + ("nodal_offset" in solids)
+        assert -parsed.properties_columns == columns + 1, (parsed.properties_columns, columns)
+        assert numbers >= 20 * columns, f"only {numbers} property numbers on the page"
+        checked += numbers
+    else:
+        assert not parsed.paths, "a properties table without report.json's properties"
+    # Pictures: each one a PNG that is not blank; the folder's property pictures are shown.
+    for name in ("youngs_modulus", "properties_chart"):
+        if os.path.exists(os.path.join(folder, name + ".png")):
+            assert name in parsed.images, f"{name}.png is not on the page"
+    for alt, src in parsed.images.items():
+        assert src.startswith("data:image/png;base64,"), (alt, src[:40])
+        png = os.path.join(work, f"img-{alt}.png")
+        with open(png, "wb") as f:
+            f.write(base64.b64decode(src.split(",", 1)[1]))
+        w, h, rows = read_png(png)
+        var, _ = region_stats(rows, 0, 0, w, h)
+        assert w > 200 and h > 200 and var > 50, (alt, w, h, var)
     # The 3D view is drawn: a screenshot's canvas box is not blank.
     shot = os.path.join(work, "shot.png")
     chromium(exe, page, work, f"--screenshot={shot}")

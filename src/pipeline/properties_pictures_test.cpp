@@ -1,0 +1,89 @@
+// The properties stage's pictures: the directional Young's modulus of an isotropic solid is one
+// colour (a sphere, E = E_s everywhere), of a cubic one spans the scale; the designer's chart
+// fits exact Gibson-Ashby data to its C and n and leaves out members without properties.
+#include "pipeline/properties_pictures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "properties/cell_properties.h"
+
+namespace cmcsurf {
+namespace {
+
+nlohmann::json stiffness_json(const properties::Matrix6& c) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& row : c) rows.push_back(std::vector<double>(row.begin(), row.end()));
+  return {{"stiffness_voigt", rows}};
+}
+
+// Distinct colours among the saturated pixels (the surface; text and axes are grey).
+std::set<int> surface_colours(const Image& img) {
+  std::set<int> colours;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      const int spread = std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]});
+      if (spread > 60) colours.insert((p[0] / 32) * 64 + (p[1] / 32) * 8 + p[2] / 32);
+    }
+  return colours;
+}
+
+TEST(PropertiesPictures, YoungsModulusOfIsotropicAndCubicSolids) {
+  // Isotropic: every vertex at t = 1/2, the scale's light grey, so no saturated surface pixel
+  // beyond the colour bar's.
+  const auto iso = youngs_modulus_picture(
+      stiffness_json(properties::isotropic_stiffness(0.3)), "isotropic");
+  ASSERT_GT(iso.image.width, 500);
+  EXPECT_GT(iso.seconds, 0.0);
+  properties::Matrix6 c{};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) c[i][j] = i == j ? 2.0 : 1.0;
+    c[i + 3][i + 3] = 1.5;  // Zener ratio 3
+  }
+  const auto cubic = youngs_modulus_picture(stiffness_json(c), "cubic");
+  ASSERT_EQ(cubic.image.width, iso.image.width);
+  // The colour bar alone is in both; the cubic surface adds colours from blue to red.
+  EXPECT_GT(surface_colours(cubic.image).size(), surface_colours(iso.image).size() + 5);
+  EXPECT_TRUE(youngs_modulus_picture(nlohmann::json::object(), "none").image.rgb.empty());
+}
+
+TEST(PropertiesPictures, ChartFitsExactPowerLawsPerFamily) {
+  std::vector<nlohmann::json> reports;
+  for (const auto& [surface, c, n] : {std::tuple{"G", 0.19, 1.71}, std::tuple{"P", 0.3, 1.4}})
+    for (double rho : {0.2, 0.3, 0.5}) {
+      nlohmann::json r = {{"surface", surface},
+                          {"properties", {{"solid", "network"}}},
+                          {"properties_relative_density", rho},
+                          {"properties_youngs_modulus", c * std::pow(rho, n)},
+                          {"properties_youngs_modulus_error", 0.01 * c * std::pow(rho, n)},
+                          {"properties_conductivity_solid", 0.5 * std::pow(rho, 1.2)},
+                          {"properties_nodal_relative_density", rho},
+                          {"properties_nodal_youngs_modulus", 2 * c * std::pow(rho, n)},
+                          {"properties_nodal_conductivity_solid", std::pow(rho, 1.1)}};
+      reports.push_back(r);
+    }
+  reports.push_back({{"surface", "D"}});  // a member without --properties: left out
+  const PropertiesChart chart = properties_chart(reports, "test");
+  ASSERT_FALSE(chart.image.rgb.empty());
+  ASSERT_EQ(chart.fits.size(), 8u);  // 2 families x (CMC, nodal) x (E, k)
+  for (const auto& f : chart.fits) {
+    ASSERT_TRUE(f["valid"].get<bool>()) << f.dump();
+    EXPECT_EQ(f["points"], 3);
+    const bool g = f["surface"] == "G", cmc = f["part"] == "cmc";
+    const double c = g ? 0.19 : 0.3, n = g ? 1.71 : 1.4;
+    if (f["quantity"] == "youngs_modulus") {
+      EXPECT_NEAR(f["exponent"].get<double>(), n, 1e-12);
+      EXPECT_NEAR(f["coefficient"].get<double>(), (cmc ? 1 : 2) * c, 1e-12);
+    } else {
+      EXPECT_NEAR(f["exponent"].get<double>(), cmc ? 1.2 : 1.1, 1e-12);
+      EXPECT_NEAR(f["coefficient"].get<double>(), cmc ? 0.5 : 1.0, 1e-12);
+    }
+  }
+  EXPECT_TRUE(properties_chart({nlohmann::json{{"surface", "G"}}}, "none").image.rgb.empty());
+}
+
+}  // namespace
+}  // namespace cmcsurf
