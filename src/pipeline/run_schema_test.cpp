@@ -6,9 +6,13 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
+#include "cahn_hilliard/time_step.h"
 #include "io/run_report.h"
+#include "multigrid/fas.h"
 #include "pipeline/run_options.h"
 
 namespace cmcsurf {
@@ -34,6 +38,19 @@ RunParams changed(const RunOption& o, RunParams p) {
   return p;
 }
 
+// The number of members of an aggregate: the most initializers T{...} takes.
+struct AnyMember {
+  template <class U>
+  operator U() const;
+};
+template <class T, class... A>
+constexpr std::size_t aggregate_members() {
+  if constexpr (requires { T{A{}..., AnyMember{}}; })
+    return aggregate_members<T, A..., AnyMember>();
+  else
+    return sizeof...(A);
+}
+
 std::vector<std::string> differing_keys(const nlohmann::json& a, const nlohmann::json& b) {
   std::vector<std::string> keys;
   for (const auto& [key, value] : a.items())
@@ -52,6 +69,17 @@ TEST(RunSchema, KeysAndCommandLineNamesAreUnique) {
     EXPECT_NE(std::string(o.help), "") << o.key;
   }
   EXPECT_EQ(find_run_option("no_such_option"), nullptr);
+}
+
+// A tripwire: a member added to RunParams, or to the solver options it holds, changes these
+// counts. Give it an entry in pipeline/run_schema.cpp (or say here why it is no parameter), then
+// update the count.
+TEST(RunSchema, EveryParameterMemberHasAnEntry) {
+  EXPECT_EQ(aggregate_members<RunParams>(), 25u);  // 24 entries and `solver`
+  EXPECT_EQ(aggregate_members<StepSolverOptions>(), 7u);  // 4 entries, `fas`, and
+  // divergence_factor and restore_mass, which only tests change
+  EXPECT_EQ(aggregate_members<FasOptions>(), 5u);  // 4 entries; coarsest_check_every: cost only
+  EXPECT_EQ(run_option_table().size(), 24u + 4u + 4u);
 }
 
 // Each entry reads and writes its own member: changing one changes exactly its key in
