@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <type_traits>
+#include <variant>
 #include <fmt/format.h>
 
 #include "io/atomic_file.h"
@@ -51,113 +53,36 @@ std::function<std::string(const std::string&)> library_check(std::string (*check
 }  // namespace
 
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface) {
-  if (with_surface)
-    app.add_option("--surface", p.surface,
-                   "Initial surface: P, D, G (Eqs. 7-9), sphere, cube, noise, other nodal "
-                   "surfaces (see `cmcsurf surfaces`)")
-        ->capture_default_str();
-  if (with_surface)
-    app.add_option("--volume-fraction", p.volume_fraction,
-                   "Target volume fraction alpha of phase 1 (phi > 1/2), in (0, 1)")
-        ->capture_default_str();
-  app.add_option("--grid", p.grid, "Cells per side N (m * 2^k, m in {1,3,5,7}, N >= 8)")
-      ->capture_default_str();
-  app.add_option("--epsilon", p.epsilon, "Interface parameter epsilon (> 0)")
-      ->capture_default_str();
-  app.add_option("--dt-factor", p.dt_factor, "Time step dt = C * h")->capture_default_str();
-  app.add_option("--stop", s.stop,
-                 "Stop rule: area (|A^{n+1} - A^n| <= tol, Section 4.5) or phi "
-                 "(||phi^{n+1} - phi^n|| <= tol, Section 4.3)")
-      ->capture_default_str();
-  app.add_option("--tol", p.tol, "Tolerance of the stop rule")->capture_default_str();
-  app.add_option("--max-steps", p.max_steps, "Limit on relaxation steps")->capture_default_str();
-  app.add_option("--smoother", s.smoother,
-                 "Gauss-Seidel ordering: redblack (parallel) or lex (as printed, serial)")
-      ->capture_default_str();
-  app.add_option("--constrain", s.constrain,
-                 "What step 6 holds at --volume-fraction: volume (the sharp volume fraction of "
-                 "phi > 1/2, by mass corrections after step 6) or mass (the paper's Section 4.4 "
-                 "as printed); no effect for sphere, cube, noise")
-      ->capture_default_str();
-  app.add_option("--volume-tol", p.volume_tol,
-                 "--constrain volume: stop correcting when |V - alpha| <= this")
-      ->capture_default_str();
-  app.add_option("--radius", p.radius, "Sphere radius (surface sphere), in (0, 0.5)")
-      ->capture_default_str();
-  app.add_option("--seed", p.seed, "Random seed (surface noise)")
-      ->check(library_check(check_seed))
-      ->capture_default_str();
-  auto* g = app.add_option_group("solver", "Multigrid and algorithm details");
-  g->add_option("--mg-tol", p.solver.tol,
-                "V-cycles stop when the defect norm sqrt(mean (dt d_phi)^2 + mean d_nu^2) "
-                "is below this")
-      ->capture_default_str();
-  app.add_flag("--fast", s.fast,
-               "Fast mode: the options below marked (fast) take their fast values unless given "
-               "(coarse-to-fine continuation, --mg-rtol 1e-2, --extrapolate, --dt-max-factor 8, "
-               "--settle-tol 1e-5, --mg-rtol-finest 0.1); "
-               "the result agrees with the default paper-faithful run to about 1e-4 in area "
-               "(docs/performance.md)");
-  s.mg_rtol = g->add_option("--mg-rtol", p.solver.rtol,
-                "(fast) Also stop V-cycles when the defect is below this times the step's first "
-                "defect (0: off, the paper-faithful default; --fast uses 1e-2)")
-      ->capture_default_str();
-  s.mg_rtol_finest = g->add_option("--mg-rtol-finest", p.mg_rtol_finest,
-                "(fast) --mg-rtol on the finest grid of a coarse-to-fine run, which starts from "
-                "the relaxed coarser field (0: --mg-rtol there too; --fast uses 0.1)")
-      ->capture_default_str();
-  s.coarse_levels = g->add_option("--coarse-levels", p.coarse_levels,
-                "(fast) Coarse-to-fine continuation: run on N/2^K first, then interpolate and "
-                "finish on each finer grid (0: off, the paper's procedure; --fast takes K <= 2 "
-                "with N/2^K >= 32; nodal surfaces only)")
-      ->capture_default_str();
-  s.extrapolate = g->add_flag("--extrapolate,!--no-extrapolate", p.solver.extrapolate,
-                "(fast) Start each step's V-cycles from the linear extrapolation of the last two "
-                "steps instead of the last step");
-  s.dt_max_factor = g->add_option("--dt-max-factor", p.dt_max_factor,
-                "(fast) Adaptive time steps: during each relaxation at epsilon, dt doubles after "
-                "every converged step up to this times h (0: fixed dt, the paper's; --fast uses 8)")
-      ->capture_default_str();
-  s.settle_tol = g->add_option("--settle-tol", p.settle_tol,
-                "(fast) Also end each relaxation at epsilon once its diffuse area and sharp volume "
-                "fraction have settled: their last two changes shrank and the geometric tail they "
-                "predict is below this (relative to the area; absolute for the volume fraction). "
-                "A steady drift, such as a slow pinch-off, never settles (0: off, the paper's "
-                "rule alone; --fast uses 1e-5)")
-      ->capture_default_str();
-  g->add_option("--max-vcycles", p.solver.max_vcycles, "Limit on V-cycles per time step")
-      ->capture_default_str();
-  g->add_option("--pre-sweeps", p.solver.fas.pre_sweeps, "Presmoothing sweeps (beta)")
-      ->capture_default_str();
-  g->add_option("--post-sweeps", p.solver.fas.post_sweeps, "Postsmoothing sweeps (beta)")
-      ->capture_default_str();
-  g->add_option("--prerelax-steps", p.prerelax_steps, "Step 3: steps at the wide epsilon")
-      ->capture_default_str();
-  g->add_option("--prerelax-epsilon-factor", p.prerelax_epsilon_factor,
-                "Step 3: wide epsilon = factor * epsilon")
-      ->capture_default_str();
-  g->add_option("--bisection-tol", p.bisection_tol, "Step 4: bisection tolerance")
-      ->capture_default_str();
-  g->add_option("--bisection-max-it", p.bisection_max_it, "Step 4: bisection iterations")
-      ->capture_default_str();
-  g->add_option("--max-volume-corrections", p.max_volume_corrections,
-                "--constrain volume: limit on mass corrections (each one a relaxation)")
-      ->capture_default_str();
+  CLI::App* solver = nullptr;  // the "solver" heading, made where its first option comes
+  for (const RunOption& o : run_option_table()) {
+    if (*o.cli == '\0' || (o.scope == RunOptionScope::kSurface && !with_surface)) continue;
+    if (o.solver_group && solver == nullptr)
+      solver = app.add_option_group("solver", "Multigrid and algorithm details");
+    CLI::App& to = o.solver_group ? *solver : app;
+    CLI::Option* added = std::visit(
+        [&](const auto& ref) -> CLI::Option* {
+          using R = std::decay_t<decltype(ref)>;
+          if constexpr (std::is_same_v<R, RunChoice>) {
+            std::string& text = s.choices.text[o.key];
+            text = ref.names.at(ref.get(p));
+            return to.add_option(o.cli, text, o.help)->capture_default_str();
+          } else if constexpr (std::is_same_v<R, RunMember<bool>>) {
+            return to.add_flag(o.cli, ref(p), o.help);
+          } else {
+            CLI::Option* opt = to.add_option(o.cli, ref(p), o.help);
+            if (o.integer_check != nullptr) opt->check(library_check(o.integer_check));
+            return opt->capture_default_str();
+          }
+        },
+        o.ref);
+    s.options.emplace_back(&o, added);
+  }
 }
 
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface) {
-  RunChoices c;
-  c.stop = s.stop;
-  c.smoother = s.smoother;
-  c.constrain = s.constrain;
-  c.fast = s.fast;
-  auto given = [](const CLI::Option* o) { return o != nullptr && o->count() > 0; };
-  c.mg_rtol_given = given(s.mg_rtol);
-  c.coarse_levels_given = given(s.coarse_levels);
-  c.dt_max_factor_given = given(s.dt_max_factor);
-  c.settle_tol_given = given(s.settle_tol);
-  c.mg_rtol_finest_given = given(s.mg_rtol_finest);
-  c.extrapolate_given = given(s.extrapolate);
+  RunChoices c = s.choices;
+  for (const auto& [o, cli] : s.options)
+    if (cli->count() > 0) c.given.insert(o->key);
   try {
     finish_run_params(p, c, check_surface);
   } catch (const OptionError& e) {

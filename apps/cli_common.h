@@ -6,11 +6,14 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "measure/quality.h"
 
 #include "pipeline/cmc.h"
 #include "pipeline/run_options.h"
+#include "pipeline/run_schema.h"
 #include "io/run_folder.h"
 
 namespace cmcsurf::cli {
@@ -24,22 +27,16 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Options shared by run, sweep and verify: everything in RunParams.
+// Options shared by run, sweep and scaffold: every option of the run option table
+// (pipeline/run_schema.h). The command line's side of RunChoices: the names given to the choice
+// options, and each option's CLI11 handle, whose count says whether it was given.
 struct RunOptionStrings {
-  std::string stop = "area";
-  std::string smoother = "redblack";
-  std::string constrain = "volume";
-  bool fast = false;  // --fast: fills in the options below that were not given
-  CLI::Option* mg_rtol = nullptr;
-  CLI::Option* coarse_levels = nullptr;
-  CLI::Option* dt_max_factor = nullptr;
-  CLI::Option* settle_tol = nullptr;
-  CLI::Option* mg_rtol_finest = nullptr;
-  CLI::Option* extrapolate = nullptr;
+  RunChoices choices;
+  std::vector<std::pair<const RunOption*, const CLI::Option*>> options;
 };
-// What --fast selects: kFastMgRtol, kFastDtMaxFactor, fast_coarse_levels (pipeline/run_options.h).
+// What --fast selects: each table entry's `fast` (pipeline/run_schema.cpp).
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
-// Converts the strings and checks every range (finish_run_params); throws UsageError.
+// Converts the names and checks every range (finish_run_params); throws UsageError.
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);
 
 // --threads T (T >= 0; 0 keeps OMP_NUM_THREADS or all cores), for every command.

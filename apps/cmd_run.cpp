@@ -222,7 +222,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
       dir, {.kind = "run", .option = resuming ? "--resume" : "--out", .force = cmd.force}, *world);
   if (resuming) {
     LoadedCheckpoint loaded = load_checkpoint(dir, RunEntry::kCmc, world);
-    p = resumed_params(app, p, loaded.params, dir / kCheckpointFileName);
+    p = resumed_params(cmd.strings, p, loaded.params, dir / kCheckpointFileName);
     restore_output_options(cmd, app, loaded.outputs, dir / kCheckpointFileName);
     resume = std::move(loaded.checkpoint);
     if (world->distributed()) check_decomposable(p, *world);

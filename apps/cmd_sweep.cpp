@@ -182,7 +182,7 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
     j = read_json_file(file);
     saved = parse_sweep_json(j);
     sp = saved.sweep;
-    sp.run = resumed_params(app, given.run, j.at("parameters"), file);
+    sp.run = resumed_params(cmd.strings, given.run, j.at("parameters"), file);
   } catch (const UsageError&) {
     throw;
   } catch (const std::invalid_argument& e) {

@@ -297,25 +297,30 @@ void remove_leftover_temporaries(const fs::path& dir, bool quiet) {
                              removed, dir.string());
 }
 
-RunParams resumed_params(const CLI::App& app, const RunParams& given, const nlohmann::json& saved,
-                         const fs::path& file) {
+RunParams resumed_params(const RunOptionStrings& options, const RunParams& given,
+                         const nlohmann::json& saved, const fs::path& file) {
   RunParams p;
   try {
     p = params_from_json(saved);
   } catch (const std::exception& e) {
     throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
   }
-  const nlohmann::json mine = params_json(given), theirs = params_json(p);
-  for (const CLI::Option* o : app.get_options()) {
-    if (o->count() == 0) continue;
-    for (std::string key : o->get_lnames()) {
-      std::replace(key.begin(), key.end(), '-', '_');
-      if (!theirs.contains(key) || mine[key] == theirs[key]) continue;
-      throw UsageError(fmt::format(
-          "--{} {}: {} was written by a run with {} {}; a resumed run keeps the parameters it "
-          "started with (leave the option out, or start a new run with another --out)",
-          o->get_lnames().front(), mine[key].dump(), file.string(), key, theirs[key].dump()));
-    }
+  // Every option add_run_options made, compared by its key (whatever its CLI name).
+  auto cli = [&](const RunOption& o) -> const CLI::Option* {
+    for (const auto& [entry, option] : options.options)
+      if (entry == &o) return option;
+    return nullptr;
+  };
+  const RunOption* o = changed_run_option(given, p, [&](const RunOption& e) {
+    return cli(e) != nullptr && cli(e)->count() > 0;
+  });
+  if (o != nullptr) {
+    const nlohmann::json mine = params_json(given), theirs = params_json(p);
+    throw UsageError(fmt::format(
+        "--{} {}: {} was written by a run with {} {}; a resumed run keeps the parameters it "
+        "started with (leave the option out, or start a new run with another --out)",
+        cli(*o)->get_lnames().front(), mine[o->key].dump(), file.string(), o->key,
+        theirs[o->key].dump()));
   }
   return p;
 }

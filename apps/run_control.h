@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_common.h"
 #include "io/checkpoint.h"
 #include "io/output_folder.h"
 #include "io/run_report.h"
@@ -147,10 +148,11 @@ std::string self_executable();
 // one throws std::runtime_error naming it.
 nlohmann::json read_json_file(const std::filesystem::path& path);
 
-// --resume: the options given on the command line (app's, with a count) must agree with the
-// parameters the run started with (`saved`, params_json); returns the parameters to use.
-// `given` is the command line's own result (defaults where not given).
-RunParams resumed_params(const CLI::App& app, const RunParams& given, const nlohmann::json& saved,
-                         const std::filesystem::path& file);
+// --resume: the run options given on the command line (`options`, add_run_options's) must agree
+// with the parameters the run started with (`saved`, params_json), each compared by its key;
+// returns the parameters to use. `given` is the command line's own result (defaults where not
+// given).
+RunParams resumed_params(const RunOptionStrings& options, const RunParams& given,
+                         const nlohmann::json& saved, const std::filesystem::path& file);
 
 }  // namespace cmcsurf::cli

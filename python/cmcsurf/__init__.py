@@ -21,7 +21,8 @@ in a sweep also ``member``, e.g. ``"G_0.30"``).
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+import inspect
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
 
@@ -37,20 +38,81 @@ __version__: str = _cmcsurf.version()
 
 Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
-# The solver options shared by run, relax and sweep, as keyword arguments. None: not given,
-# which for mg_rtol, mg_rtol_finest, coarse_levels, dt_max_factor, extrapolate and settle_tol
-# lets fast=True choose.
-_SOLVER_OPTIONS = (
-    "epsilon", "dt_factor", "stop", "tol", "max_steps", "smoother", "constrain", "volume_tol",
-    "mg_tol", "fast", "mg_rtol", "mg_rtol_finest", "coarse_levels", "extrapolate", "dt_max_factor",
-    "settle_tol",
-    "max_vcycles", "pre_sweeps", "post_sweeps", "prerelax_steps", "prerelax_epsilon_factor",
-    "bisection_tol", "bisection_max_it", "max_volume_corrections",
-)
+# The run options (the C++ run option table, pipeline/run_schema.cpp): the keywords of run,
+# relax and sweep with the command line's defaults. Their signatures are built from it below;
+# None, the default of the options --fast chooses, lets fast=True choose.
+_RUN_OPTIONS: List[Dict[str, Any]] = _cmcsurf.run_options()
+_TYPES = {"float": float, "int": int, "str": str, "bool": bool}
+_P = inspect.Parameter
 
 
-def _options(values: Dict[str, Any], names: Sequence[str]) -> Dict[str, Any]:
-    return {name: values[name] for name in names}
+def _parameter(option: Dict[str, Any], kind: Any = _P.KEYWORD_ONLY,
+               default: Any = _P.empty) -> inspect.Parameter:
+    fast = option["fast"]
+    annotation = _TYPES[option["type"]]
+    if default is _P.empty:
+        default = None if fast else option["default"]
+    return _P(option["key"], kind, default=default,
+              annotation=Optional[annotation] if fast or default is None else annotation)
+
+
+def _option(key: str) -> Dict[str, Any]:
+    return next(o for o in _RUN_OPTIONS if o["key"] == key)
+
+
+def _options_doc(keys: Sequence[str]) -> str:
+    lines = ["", "Run options (as the command line's, `cmcsurf run --help`):", ""]
+    for o in _RUN_OPTIONS:
+        if o["key"] in keys:
+            unit = f" [{o['unit']}]" if o["unit"] else ""
+            accepted = f" (accepted: {o['accepted']})" if o["accepted"] else ""
+            lines.append(f"    {o['key']}{unit}: {o['help']}{accepted}")
+    return "\n".join(lines) + "\n"
+
+
+_R = TypeVar("_R")
+
+
+def _signature(leading: Sequence[inspect.Parameter], scopes: Sequence[str],
+               trailing: Sequence[inspect.Parameter], returns: Any,
+               defaults: Optional[Dict[str, Any]] = None,
+               ) -> Callable[[Callable[[Dict[str, Any]], _R]], Callable[..., _R]]:
+    """Gives the decorated body(arguments) the signature leading, then the run options of
+    `scopes` not among leading (keyword-only, table order, `defaults` overriding the table's),
+    then trailing; calls bind as that signature does and pass every argument, defaults
+    applied."""
+    named = {p.name for p in leading} | {p.name for p in trailing}
+    options = [_parameter(o, default=(defaults or {}).get(o["key"], _P.empty))
+               for o in _RUN_OPTIONS if o["scope"] in scopes and o["key"] not in named]
+    sig = inspect.Signature(list(leading) + options + list(trailing), return_annotation=returns)
+
+    def decorate(body: Callable[[Dict[str, Any]], _R]) -> Callable[..., _R]:
+        def call(*args: Any, **kwargs: Any) -> _R:
+            try:
+                bound = sig.bind(*args, **kwargs)
+            except TypeError as e:
+                raise TypeError(f"{body.__name__}() {e}") from None
+            bound.apply_defaults()
+            return body(dict(bound.arguments))
+
+        call.__name__ = call.__qualname__ = body.__name__
+        call.__module__ = body.__module__
+        call.__doc__ = (body.__doc__ or "") + _options_doc(list(sig.parameters))
+        call.__signature__ = sig  # type: ignore[attr-defined]
+        return call
+
+    return decorate
+
+
+def _run_options(values: Dict[str, Any], scopes: Sequence[str]) -> Dict[str, Any]:
+    """The arguments that are run options of `scopes` (the rest are the function's own)."""
+    return {o["key"]: values[o["key"]] for o in _RUN_OPTIONS
+            if o["scope"] in scopes and o["key"] in values}
+
+
+_SOLVER = ("solver",)
+_THREADS = _P("threads", _P.KEYWORD_ONLY, default=0, annotation=int)
+_PROGRESS = _P("progress", _P.KEYWORD_ONLY, default=None, annotation=Progress)
 
 
 def surfaces() -> List[Dict[str, Any]]:
@@ -64,92 +126,39 @@ def surfaces() -> List[Dict[str, Any]]:
     return _cmcsurf.surfaces()
 
 
-def run(
-    surface: str = "G",
-    volume_fraction: float = 0.5,
-    grid: int = 64,
-    epsilon: float = 0.01,
-    *,
-    dt_factor: float = 0.5,
-    stop: str = "area",
-    tol: float = 1e-6,
-    max_steps: int = 20000,
-    smoother: str = "redblack",
-    constrain: str = "volume",
-    volume_tol: float = 1e-4,
-    radius: float = 0.25,
-    seed: int = 1,
-    fast: bool = False,
-    mg_tol: float = 1e-9,
-    mg_rtol: Optional[float] = None,
-    coarse_levels: Optional[int] = None,
-    extrapolate: Optional[bool] = None,
-    dt_max_factor: Optional[float] = None,
-    settle_tol: Optional[float] = None,
-    mg_rtol_finest: Optional[float] = None,
-    max_vcycles: int = 100,
-    pre_sweeps: int = 2,
-    post_sweeps: int = 2,
-    prerelax_steps: int = 5,
-    prerelax_epsilon_factor: float = 5.0,
-    bisection_tol: float = 1e-6,
-    bisection_max_it: int = 60,
-    max_volume_corrections: int = 8,
-    threads: int = 0,
-    progress: Progress = None,
-) -> Result:
+@_signature([_parameter(_option(k), _P.POSITIONAL_OR_KEYWORD)
+            for k in ("surface", "volume_fraction", "grid", "epsilon")],
+            ("surface", "initial", "grid", "solver"), [_THREADS, _PROGRESS], Result)
+def run(arguments: Dict[str, Any]) -> Result:
     """One CMC surface, exactly as ``cmcsurf run`` computes it (same defaults, same report).
 
     Nodal surfaces (P, D, G, ..., ``expr:``) go through Section 4.4's steps 1-6 at
     ``volume_fraction`` and, with ``constrain="volume"``, the mass corrections that hold the
     sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
-    directly. ``fast=True`` is ``--fast`` (it chooses mg_rtol, mg_rtol_finest, coarse_levels,
-    extrapolate, dt_max_factor and settle_tol where they are None). ``threads``: OpenMP threads for this
-    call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time
-    step.
+    directly. ``fast=True`` is ``--fast`` (it chooses the options whose default is None
+    where they are None). ``threads``: OpenMP threads for this call (0: OMP_NUM_THREADS or all
+    cores). ``progress``: called with a dict after every time step.
 
     Returns a :class:`Result`: ``.phi`` (N, N, N) float64 (read-only), ``.report`` (the dict of
     report.json), ``.history`` (a dict of NumPy columns, history.csv's), ``.save(dir)``.
     Raises ValueError / TypeError on bad arguments, SolverDiverged if the run diverges,
     KeyboardInterrupt on Ctrl-C.
     """
-    names = ("surface", "volume_fraction", "grid", "radius", "seed") + _SOLVER_OPTIONS
-    return _cmcsurf.run(_options(locals(), names), threads, progress)
+    a = arguments
+    options = _run_options(a, ("surface", "initial", "grid", "solver"))
+    return _cmcsurf.run(options, a["threads"], a["progress"])
 
 
-def relax(
-    phi: Any,
-    volume_fraction: Optional[float] = None,
-    epsilon: float = 0.01,
-    *,
-    algorithm: str = "cmc",
-    dt_factor: float = 0.5,
-    stop: str = "area",
-    tol: float = 1e-6,
-    max_steps: int = 20000,
-    smoother: str = "redblack",
-    constrain: str = "volume",
-    volume_tol: float = 1e-4,
-    fast: bool = False,
-    mg_tol: float = 1e-9,
-    mg_rtol: Optional[float] = None,
-    coarse_levels: Optional[int] = None,
-    extrapolate: Optional[bool] = None,
-    dt_max_factor: Optional[float] = None,
-    settle_tol: Optional[float] = None,
-    mg_rtol_finest: Optional[float] = None,
-    max_vcycles: int = 100,
-    pre_sweeps: int = 2,
-    post_sweeps: int = 2,
-    prerelax_steps: int = 0,
-    prerelax_epsilon_factor: float = 5.0,
-    bisection_tol: float = 1e-6,
-    bisection_max_it: int = 60,
-    max_volume_corrections: int = 8,
-    surface: Optional[str] = None,
-    threads: int = 0,
-    progress: Progress = None,
-) -> Result:
+@_signature([_P("phi", _P.POSITIONAL_OR_KEYWORD, annotation=Any),
+             _P("volume_fraction", _P.POSITIONAL_OR_KEYWORD, default=None,
+                annotation=Optional[float]),
+             _parameter(_option("epsilon"), _P.POSITIONAL_OR_KEYWORD),
+             _P("algorithm", _P.KEYWORD_ONLY, default="cmc", annotation=str)],
+            _SOLVER,
+            [_P("surface", _P.KEYWORD_ONLY, default=None, annotation=Optional[str]),
+             _THREADS, _PROGRESS], Result,
+            defaults={"prerelax_steps": 0})  # documented below: step 3 off for a given field
+def relax(arguments: Dict[str, Any]) -> Result:
     """Relax your own field ``phi`` (an (N, N, N) array, e.g. a segmented tomography volume with
     0/1 phases or a simulation snapshot) to the CMC surface of its phase 1 = {phi > 1/2}.
 
@@ -174,9 +183,11 @@ def relax(
     comparison with that nodal surface to the quality keys. ``coarse_levels`` must be 0 or None:
     there is no coarser version of a given field. Other options as in :func:`run`.
     """
-    names = ("surface",) + _SOLVER_OPTIONS
-    return _cmcsurf.relax(phi, volume_fraction, algorithm, _options(locals(), names), threads,
-                          progress)
+    a = arguments
+    options = _run_options(a, _SOLVER)
+    options["surface"] = a["surface"]
+    return _cmcsurf.relax(a["phi"], a["volume_fraction"], a["algorithm"], options, a["threads"],
+                          a["progress"])
 
 
 def initial_field(
@@ -207,39 +218,16 @@ def measure(
     return _cmcsurf.measure(phi, {"epsilon": epsilon, "surface": surface}, threads)
 
 
-def sweep(
-    surfaces: Union[str, Sequence[str]] = ("P", "D", "G"),
-    volume_fractions: Union[str, Sequence[float]] = "0.25:0.75:0.05",
-    grid: int = 64,
-    epsilon: float = 0.01,
-    *,
-    continuation: bool = False,
-    dt_factor: float = 0.5,
-    stop: str = "area",
-    tol: float = 1e-6,
-    max_steps: int = 20000,
-    smoother: str = "redblack",
-    constrain: str = "volume",
-    volume_tol: float = 1e-4,
-    fast: bool = False,
-    mg_tol: float = 1e-9,
-    mg_rtol: Optional[float] = None,
-    coarse_levels: Optional[int] = None,
-    extrapolate: Optional[bool] = None,
-    dt_max_factor: Optional[float] = None,
-    settle_tol: Optional[float] = None,
-    mg_rtol_finest: Optional[float] = None,
-    max_vcycles: int = 100,
-    pre_sweeps: int = 2,
-    post_sweeps: int = 2,
-    prerelax_steps: int = 5,
-    prerelax_epsilon_factor: float = 5.0,
-    bisection_tol: float = 1e-6,
-    bisection_max_it: int = 60,
-    max_volume_corrections: int = 8,
-    threads: int = 0,
-    progress: Progress = None,
-) -> Tuple[List[Result], Dict[str, np.ndarray]]:
+@_signature([_P("surfaces", _P.POSITIONAL_OR_KEYWORD, default=("P", "D", "G"),
+                annotation=Union[str, Sequence[str]]),
+             _P("volume_fractions", _P.POSITIONAL_OR_KEYWORD, default="0.25:0.75:0.05",
+                annotation=Union[str, Sequence[float]]),
+             _parameter(_option("grid"), _P.POSITIONAL_OR_KEYWORD),
+             _parameter(_option("epsilon"), _P.POSITIONAL_OR_KEYWORD),
+             _P("continuation", _P.KEYWORD_ONLY, default=False, annotation=bool)],
+            ("grid", "solver"), [_THREADS, _PROGRESS],
+            Tuple[List[Result], Dict[str, np.ndarray]])
+def sweep(arguments: Dict[str, Any]) -> Tuple[List[Result], Dict[str, np.ndarray]]:
     """Families of CMC surfaces over volume fraction (Fig. 11), as ``cmcsurf sweep``.
 
     ``surfaces``: nodal surfaces, a sequence or the command line's "P,D,G".
@@ -254,9 +242,10 @@ def sweep(
     table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
     arrays for strings and booleans).
     """
-    names = ("grid",) + _SOLVER_OPTIONS
-    results, columns = _cmcsurf.sweep(surfaces, volume_fractions, continuation,
-                                      _options(locals(), names), threads, progress)
+    a = arguments
+    results, columns = _cmcsurf.sweep(a["surfaces"], a["volume_fractions"], a["continuation"],
+                                      _run_options(a, ("grid", "solver")), a["threads"],
+                                      a["progress"])
     table: Dict[str, np.ndarray] = {}
     for key in columns:
         values = [r.report.get(key) for r in results]

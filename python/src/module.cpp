@@ -20,6 +20,7 @@
 #include <functional>
 #include <limits>
 #include <type_traits>
+#include <variant>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -45,6 +46,7 @@
 #include "pipeline/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
+#include "pipeline/run_schema.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/run_page.h"
 #include "pipeline/sweep.h"
@@ -287,54 +289,71 @@ class IntOptions {
   int clamped_ = 0;
 };
 
-// The keyword arguments of run() (the command line's options with '_' for '-'). None means
-// "not given" only for the options --fast chooses (and is a TypeError elsewhere); a key that is
-// absent is not given. Unknown keys are a TypeError, as in any Python call.
+// The keyword arguments of run(): the run option table's keys (pipeline/run_schema.h), each
+// converted by its type. None means "not given" only for the options --fast chooses (and is a
+// TypeError elsewhere); a key that is absent is not given. Unknown keys are a TypeError, as in
+// any Python call.
 void apply_options(RunParams& p, RunChoices& c, IntOptions& ints, const py::dict& options) {
   for (auto [key_obj, v] : options) {
     const std::string key = py::cast<std::string>(key_obj);
-    auto d = [&](double& x) { x = real_option(v, key); };
-    auto i = [&](int& x) { x = ints.take(v, key); };
-    auto s = [&](std::string& x) { x = string_option(v, key); };
-    auto b = [&](bool& x) { x = bool_option(v, key); };
-    // The options --fast chooses: None leaves the choice to it.
-    auto fast = [&](auto set, bool& given) {
-      if (v.is_none()) return;
-      set();
-      given = true;
-    };
-    if (key == "surface") s(p.surface);
-    else if (key == "volume_fraction") d(p.volume_fraction);
-    else if (key == "grid") i(p.grid);
-    else if (key == "epsilon") d(p.epsilon);
-    else if (key == "dt_factor") d(p.dt_factor);
-    else if (key == "stop") s(c.stop);
-    else if (key == "tol") d(p.tol);
-    else if (key == "max_steps") i(p.max_steps);
-    else if (key == "smoother") s(c.smoother);
-    else if (key == "constrain") s(c.constrain);
-    else if (key == "volume_tol") d(p.volume_tol);
-    else if (key == "radius") d(p.radius);
-    else if (key == "seed") p.seed = seed_option(v);
-    else if (key == "mg_tol") d(p.solver.tol);
-    else if (key == "fast") b(c.fast);
-    else if (key == "mg_rtol") fast([&] { d(p.solver.rtol); }, c.mg_rtol_given);
-    else if (key == "coarse_levels") fast([&] { i(p.coarse_levels); }, c.coarse_levels_given);
-    else if (key == "extrapolate") fast([&] { b(p.solver.extrapolate); }, c.extrapolate_given);
-    else if (key == "dt_max_factor") fast([&] { d(p.dt_max_factor); }, c.dt_max_factor_given);
-    else if (key == "settle_tol") fast([&] { d(p.settle_tol); }, c.settle_tol_given);
-    else if (key == "mg_rtol_finest")
-      fast([&] { d(p.mg_rtol_finest); }, c.mg_rtol_finest_given);
-    else if (key == "max_vcycles") i(p.solver.max_vcycles);
-    else if (key == "pre_sweeps") i(p.solver.fas.pre_sweeps);
-    else if (key == "post_sweeps") i(p.solver.fas.post_sweeps);
-    else if (key == "prerelax_steps") i(p.prerelax_steps);
-    else if (key == "prerelax_epsilon_factor") d(p.prerelax_epsilon_factor);
-    else if (key == "bisection_tol") d(p.bisection_tol);
-    else if (key == "bisection_max_it") i(p.bisection_max_it);
-    else if (key == "max_volume_corrections") i(p.max_volume_corrections);
-    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+    const RunOption* o = find_run_option(key);
+    if (o == nullptr || !o->python())
+      throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+    if (o->fast != nullptr && v.is_none()) continue;  // --fast chooses
+    std::visit(
+        [&](const auto& ref) {
+          using R = std::decay_t<decltype(ref)>;
+          if constexpr (std::is_same_v<R, RunChoice>) {
+            c.text[key] = string_option(v, key);
+          } else if constexpr (std::is_same_v<R, RunMember<std::uint64_t>>) {
+            ref(p) = seed_option(v);
+          } else {
+            auto& x = ref(p);
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, double>) x = real_option(v, key);
+            else if constexpr (std::is_same_v<T, int>) x = ints.take(v, key);
+            else if constexpr (std::is_same_v<T, bool>) x = bool_option(v, key);
+            else x = string_option(v, key);
+          }
+        },
+        o->ref);
+    c.given.insert(key);
   }
+}
+
+// The run option table for the Python package (cmcsurf/__init__.py builds the signatures of
+// run, relax and sweep from it): key, command-line name, scope, default, unit, help, accepted
+// range, and whether --fast chooses it (then the keyword's default is None).
+py::list run_option_schema() {
+  const RunParams defaults;
+  const nlohmann::json values = params_json(defaults);
+  py::list out;
+  for (const RunOption& o : run_option_table()) {
+    if (!o.python()) continue;
+    static const char* const kScopes[] = {"surface", "initial", "grid", "solver", "internal"};
+    py::dict d;
+    d["key"] = o.key;
+    d["cli"] = o.name();
+    d["scope"] = kScopes[int(o.scope)];
+    d["default"] = to_python(values.at(o.key));
+    d["unit"] = o.unit;
+    d["help"] = o.help;
+    d["accepted"] = std::holds_alternative<RunChoice>(o.ref) ? run_choice_names(o)
+                                                              : std::string(o.accepted);
+    d["fast"] = o.fast != nullptr;
+    d["type"] = std::visit(
+        [](const auto& ref) -> std::string {
+          using R = std::decay_t<decltype(ref)>;
+          if constexpr (std::is_same_v<R, RunMember<double>>) return "float";
+          else if constexpr (std::is_same_v<R, RunMember<bool>>) return "bool";
+          else if constexpr (std::is_same_v<R, RunMember<int>> ||
+                             std::is_same_v<R, RunMember<std::uint64_t>>) return "int";
+          else return "str";
+        },
+        o.ref);
+    out.append(d);
+  }
+  return out;
 }
 
 // The options converted and checked as the command line's (finish_run_params); `adjust` may
@@ -1104,6 +1123,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("version", [] { return std::string(CMCSURF_VERSION); });
   m.def("surfaces", &surfaces);
   m.def("default_options", [] { return to_python(params_json(RunParams{})); });
+  m.def("run_options", &run_option_schema);
   m.def("run", &run, py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("relax", &relax, py::arg("phi"), py::arg("volume_fraction"), py::arg("algorithm"),
         py::arg("options"), py::arg("threads"), py::arg("progress"));

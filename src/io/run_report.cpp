@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <set>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 #include <cmath>
 
@@ -15,98 +17,40 @@
 #include "io/csv.h"
 #include "parallel/threads.h"
 #include "pipeline/run_options.h"
+#include "pipeline/run_schema.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
 
 nlohmann::json params_json(const RunParams& p) {
-  return {
-      {"surface", p.surface},
-      {"volume_fraction", p.volume_fraction},
-      {"grid", p.grid},
-      {"epsilon", p.epsilon},
-      {"dt_factor", p.dt_factor},
-      {"stop", p.stop == StopRule::kArea ? "area" : "phi"},
-      {"tol", p.tol},
-      {"max_steps", p.max_steps},
-      {"smoother", p.smoother == SweepOrder::kRedBlack ? "redblack" : "lex"},
-      {"radius", p.radius},
-      {"seed", p.seed},
-      {"noise_amplitude", p.noise_amplitude},
-      {"prerelax_steps", p.prerelax_steps},
-      {"prerelax_epsilon_factor", p.prerelax_epsilon_factor},
-      {"bisection_tol", p.bisection_tol},
-      {"bisection_max_it", p.bisection_max_it},
-      {"constrain", constraint_name(p.constrain)},
-      {"volume_tol", p.volume_tol},
-      {"max_volume_corrections", p.max_volume_corrections},
-      {"mg_tol", p.solver.tol},
-      {"mg_rtol", p.solver.rtol},
-      {"coarse_levels", p.coarse_levels},
-      {"dt_max_factor", p.dt_max_factor},
-      {"settle_tol", p.settle_tol},
-      {"mg_rtol_finest", p.mg_rtol_finest},
-      {"extrapolate", p.solver.extrapolate},
-      {"fast", p.fast},
-      {"max_vcycles", p.solver.max_vcycles},
-      {"pre_sweeps", p.solver.fas.pre_sweeps},
-      {"post_sweeps", p.solver.fas.post_sweeps},
-      {"coarsest_max_sweeps", p.solver.fas.coarsest_max_sweeps},
-      {"coarsest_reduction", p.solver.fas.coarsest_reduction},
-  };
+  nlohmann::json j = nlohmann::json::object();
+  for (const RunOption& o : run_option_table())
+    std::visit([&](const auto& v) { j[o.key] = v; }, run_option_value(o, p));
+  return j;
 }
 
 RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   RunParams p = base;
-  auto take = [&](const char* key, auto& value, bool optional = false) {
-    if (optional && !j.contains(key)) return;
-    if (!j.is_object() || !j.contains(key))
-      throw std::runtime_error(fmt::format("parameter '{}' is missing", key));
-    value = json_value<std::remove_cvref_t<decltype(value)>>(j.at(key),
-                                                              fmt::format("parameter '{}'", key));
-  };
-  auto choose = [&](const char* key, auto& value, auto a, const char* a_name, auto b,
-                    const char* b_name) {
-    std::string s;
-    take(key, s);
-    if (s != a_name && s != b_name)
-      throw std::runtime_error(
-          fmt::format("parameter '{}': '{}' is neither {} nor {}", key, s, a_name, b_name));
-    value = s == a_name ? a : b;
-  };
-  take("surface", p.surface, true);
-  take("volume_fraction", p.volume_fraction, true);
-  take("grid", p.grid);
-  take("epsilon", p.epsilon);
-  take("dt_factor", p.dt_factor);
-  choose("stop", p.stop, StopRule::kArea, "area", StopRule::kPhi, "phi");
-  take("tol", p.tol);
-  take("max_steps", p.max_steps);
-  choose("smoother", p.smoother, SweepOrder::kRedBlack, "redblack", SweepOrder::kLexicographic,
-         "lex");
-  take("radius", p.radius);
-  take("seed", p.seed);
-  take("noise_amplitude", p.noise_amplitude);
-  take("prerelax_steps", p.prerelax_steps);
-  take("prerelax_epsilon_factor", p.prerelax_epsilon_factor);
-  take("bisection_tol", p.bisection_tol);
-  take("bisection_max_it", p.bisection_max_it);
-  choose("constrain", p.constrain, Constraint::kVolume, "volume", Constraint::kMass, "mass");
-  take("volume_tol", p.volume_tol);
-  take("max_volume_corrections", p.max_volume_corrections);
-  take("mg_tol", p.solver.tol);
-  take("mg_rtol", p.solver.rtol);
-  take("coarse_levels", p.coarse_levels);
-  take("dt_max_factor", p.dt_max_factor);
-  take("settle_tol", p.settle_tol, true);  // absent before 2026-11-25: off
-  take("mg_rtol_finest", p.mg_rtol_finest, true);  // the same
-  take("extrapolate", p.solver.extrapolate);
-  take("fast", p.fast);
-  take("max_vcycles", p.solver.max_vcycles);
-  take("pre_sweeps", p.solver.fas.pre_sweeps);
-  take("post_sweeps", p.solver.fas.post_sweeps);
-  take("coarsest_max_sweeps", p.solver.fas.coarsest_max_sweeps);
-  take("coarsest_reduction", p.solver.fas.coarsest_reduction);
+  for (const RunOption& o : run_option_table()) {
+    if (o.optional_in_json && !j.contains(o.key)) continue;
+    if (!j.is_object() || !j.contains(o.key))
+      throw std::runtime_error(fmt::format("parameter '{}' is missing", o.key));
+    const std::string what = fmt::format("parameter '{}'", o.key);
+    std::visit(
+        [&](const auto& ref) {
+          using R = std::decay_t<decltype(ref)>;
+          if constexpr (std::is_same_v<R, RunChoice>) {
+            const std::string s = json_value<std::string>(j.at(o.key), what);
+            if (!set_run_choice(o, p, s))
+              throw std::runtime_error(fmt::format("parameter '{}': '{}' is neither {} nor {}",
+                                                   o.key, s, ref.names.at(0), ref.names.at(1)));
+          } else {
+            auto& v = ref(p);
+            v = json_value<std::remove_cvref_t<decltype(v)>>(j.at(o.key), what);
+          }
+        },
+        o.ref);
+  }
   try {
     check_run_params(p, true);  // the command line's own checks (pipeline/run_options.h)
   } catch (const OptionError& e) {

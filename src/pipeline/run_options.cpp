@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <variant>
 
 #include <fmt/format.h>
 
 #include "multigrid/fas.h"
 #include "parallel/memory.h"
+#include "pipeline/run_schema.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -26,37 +29,16 @@ int fast_coarse_levels(int grid) {
   return k;
 }
 
-void finish_run_params(RunParams& p, const RunChoices& s, bool check_surface) {
-  if (s.fast) {
-    p.fast = true;
-    if (!s.mg_rtol_given) p.solver.rtol = kFastMgRtol;
-    if (!s.dt_max_factor_given) p.dt_max_factor = kFastDtMaxFactor;
-    if (!s.extrapolate_given) p.solver.extrapolate = true;
-    if (!s.settle_tol_given) p.settle_tol = kFastSettleTol;
-    if (!s.mg_rtol_finest_given) p.mg_rtol_finest = kFastMgRtolFinest;
-    if (!s.coarse_levels_given && check_coarsenable(p.grid).empty() &&
-        (!check_surface || is_nodal_surface(p.surface)))
-      p.coarse_levels = fast_coarse_levels(p.grid);
+void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface) {
+  for (const RunOption& o : run_option_table()) {
+    if (p.fast && o.fast != nullptr && c.given.count(o.key) == 0) o.fast(p, check_surface);
   }
-  if (s.stop == "area")
-    p.stop = StopRule::kArea;
-  else if (s.stop == "phi")
-    p.stop = StopRule::kPhi;
-  else
-    throw OptionError(fmt::format("--stop: got '{}'; accepted: area, phi", s.stop));
-  if (s.smoother == "redblack")
-    p.smoother = SweepOrder::kRedBlack;
-  else if (s.smoother == "lex")
-    p.smoother = SweepOrder::kLexicographic;
-  else
-    throw OptionError(fmt::format("--smoother: got '{}'; accepted: redblack, lex", s.smoother));
-  if (s.constrain == "volume")
-    p.constrain = Constraint::kVolume;
-  else if (s.constrain == "mass")
-    p.constrain = Constraint::kMass;
-  else
-    throw OptionError(fmt::format("--constrain: got '{}'; accepted: volume, mass", s.constrain));
-
+  for (const RunOption& o : run_option_table()) {
+    const auto text = c.text.find(o.key);
+    if (text != c.text.end() && !set_run_choice(o, p, text->second))
+      throw OptionError(fmt::format("{}: got '{}'; accepted: {}", o.name(), text->second,
+                                    run_choice_names(o)));
+  }
   check_run_params(p, check_surface);
 }
 
@@ -114,49 +96,26 @@ void check_run_params(const RunParams& p, bool check_surface) {
   if (const std::string why = check_fraction_on_grid(p.volume_fraction, p.grid);
       check_surface && !why.empty())
     throw OptionError("--volume-fraction: " + why);
-  require(p.epsilon > 0.0 && p.epsilon < 1.0, "--epsilon", p.epsilon, "0 < E < 1");
-  require(p.dt_factor > 0.0 && std::isfinite(p.dt_factor), "--dt-factor", p.dt_factor,
-          "C > 0 (dt = C h)");
-  require(p.tol > 0.0 && std::isfinite(p.tol), "--tol", p.tol, "T > 0");
-  require(p.max_steps >= 1, "--max-steps", p.max_steps, "K >= 1");
-  require(p.radius > 0.0 && p.radius < 0.5, "--radius", p.radius, "0 < R < 0.5");
-  require(p.solver.tol > 0.0 && std::isfinite(p.solver.tol), "--mg-tol", p.solver.tol, "> 0");
-  require(p.solver.rtol >= 0.0 && p.solver.rtol < 1.0, "--mg-rtol", p.solver.rtol, "0 <= R < 1");
-  require(p.coarse_levels >= 0 && p.coarse_levels <= 4, "--coarse-levels", p.coarse_levels,
-          "0..4");
+  // Each option's own range (pipeline/run_schema.h), in the table's order.
+  for (const RunOption& o : run_option_table()) {
+    if (*o.accepted == '\0') continue;
+    std::visit(
+        [&](const auto& v) {
+          using T = std::decay_t<decltype(v)>;
+          if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>)
+            require(o.range.contains(double(v)), o.name().c_str(), v, o.accepted);
+        },
+        run_option_value(o, p));
+  }
+  // The ranges that depend on other options.
   if (p.coarse_levels > 0 && !check_coarsenable(p.grid >> p.coarse_levels).empty())
     throw OptionError(fmt::format("--coarse-levels: {} halvings of --grid {} give {}, which {}",
                                   p.coarse_levels, p.grid, p.grid >> p.coarse_levels,
                                   check_coarsenable(p.grid >> p.coarse_levels)));
   require(p.dt_max_factor == 0.0 || (p.dt_max_factor >= p.dt_factor && p.dt_max_factor <= 1000.0),
           "--dt-max-factor", p.dt_max_factor, "0 (fixed dt) or --dt-factor <= F <= 1000");
-  require(p.mg_rtol_finest >= 0.0 && p.mg_rtol_finest < 1.0, "--mg-rtol-finest",
-          p.mg_rtol_finest, "0 (as --mg-rtol) <= R < 1");
-  require(p.settle_tol >= 0.0 && p.settle_tol < 1.0, "--settle-tol", p.settle_tol,
-          "0 (off) <= T < 1");
-  require(p.solver.max_vcycles >= 1, "--max-vcycles", p.solver.max_vcycles, ">= 1");
-  require(p.solver.fas.pre_sweeps >= 0 && p.solver.fas.pre_sweeps <= 50, "--pre-sweeps",
-          p.solver.fas.pre_sweeps, "0..50");
-  require(p.solver.fas.post_sweeps >= 0 && p.solver.fas.post_sweeps <= 50, "--post-sweeps",
-          p.solver.fas.post_sweeps, "0..50");
   require(p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps >= 1, "--pre-sweeps/--post-sweeps",
           p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps, "at least one sweep in total");
-  require(p.prerelax_steps >= 0, "--prerelax-steps", p.prerelax_steps, ">= 0");
-  require(p.prerelax_epsilon_factor > 0.0 && p.prerelax_epsilon_factor <= 1000.0,
-          "--prerelax-epsilon-factor", p.prerelax_epsilon_factor, "0 < F <= 1000");
-  require(p.bisection_tol > 0.0 && std::isfinite(p.bisection_tol), "--bisection-tol",
-          p.bisection_tol, "> 0");
-  require(p.bisection_max_it >= 1, "--bisection-max-it", p.bisection_max_it, ">= 1");
-  require(p.volume_tol > 0.0 && p.volume_tol < 0.1, "--volume-tol", p.volume_tol, "0 < T < 0.1");
-  require(p.max_volume_corrections >= 0 && p.max_volume_corrections <= 100,
-          "--max-volume-corrections", p.max_volume_corrections, "0..100");
-  // Not options of the command line, but parameters a checkpoint or sweep.json carries.
-  require(std::isfinite(p.noise_amplitude) && p.noise_amplitude >= 0.0, "noise_amplitude",
-          p.noise_amplitude, "finite, >= 0");
-  require(p.solver.fas.coarsest_max_sweeps >= 1, "coarsest_max_sweeps",
-          p.solver.fas.coarsest_max_sweeps, ">= 1");
-  require(p.solver.fas.coarsest_reduction > 0.0 && p.solver.fas.coarsest_reduction < 1.0,
-          "coarsest_reduction", p.solver.fas.coarsest_reduction, "0 < R < 1");
 }
 
 }  // namespace cmcsurf

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -16,19 +18,12 @@ struct OptionError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-// The options of a run that are not plain numbers of RunParams, and which of the options that
-// --fast sets the user gave (those keep the given value).
+// What a user gave beside RunParams' own members (pipeline/run_schema.h): the names of the
+// choice options, converted and checked by finish_run_params, and which options were given
+// (--fast leaves those alone). Keyed by the option's key.
 struct RunChoices {
-  std::string stop = "area";          // area | phi
-  std::string smoother = "redblack";  // redblack | lex
-  std::string constrain = "volume";   // volume | mass
-  bool fast = false;
-  bool mg_rtol_given = false;
-  bool coarse_levels_given = false;
-  bool dt_max_factor_given = false;
-  bool extrapolate_given = false;
-  bool settle_tol_given = false;
-  bool mg_rtol_finest_given = false;
+  std::map<std::string, std::string> text;
+  std::set<std::string> given;
 };
 
 // --grid's upper bound (the verify experiments' grids share it).
@@ -43,8 +38,8 @@ constexpr double kFastSettleTol = 1e-5;
 constexpr double kFastMgRtolFinest = 0.1;
 int fast_coarse_levels(int grid);
 
-// Applies --fast, converts the strings and checks every range (the surface and the volume
-// fraction too when check_surface); throws OptionError.
+// Applies --fast (p.fast) where not given, converts the choices' names and checks every range
+// (the surface and the volume fraction too when check_surface); throws OptionError.
 void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface);
 // The range checks alone (those of finish_run_params, plus the parameters the command line
 // does not set): for parameters read back from a checkpoint or sweep.json. Throws OptionError.
