@@ -1,5 +1,6 @@
 // Google Benchmark kernels of the properties solvers (docs/properties.md): the voxel stencil,
-// the FFT preconditioner and a full homogenisation, on the nodal gyroid network at porosity 0.7.
+// the FFT preconditioner and a full homogenisation, on the nodal gyroid network at porosity 0.7;
+// the Stokes stencil, its preconditioner and the permeability tensor.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -8,6 +9,8 @@
 #include "properties/fft_preconditioner.h"
 #include "properties/homogenize.h"
 #include "properties/solid_fraction.h"
+#include "properties/stokes_flow.h"
+#include "properties/stokes_preconditioner.h"
 #include "properties/voxel_element.h"
 #include "properties/voxel_operator.h"
 
@@ -112,6 +115,56 @@ BENCHMARK(BM_HomogenizeConductivity)
     ->ArgsProduct({{32, 64, 128}, {0, 1}})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
+
+// y = K x of the Stokes system (velocity and pressure); counts cells per second.
+void BM_StokesStencil(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  const StokesOperator op(n, s);
+  const Vec x = random_vec(op.size());
+  Vec y(op.size());
+  for (auto _ : state) {
+    op.apply(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.cells()));
+}
+BENCHMARK(BM_StokesStencil)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The block preconditioner: three FFT Laplacian solves and the pressure scaling.
+void BM_StokesPreconditioner(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  const StokesOperator op(n, s);
+  const StokesPreconditioner pre(op, FlowOptions{}.sigma);
+  const Vec r = random_vec(op.size());
+  Vec z(op.size());
+  for (auto _ : state) {
+    pre.apply(r.data(), z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.cells()));
+}
+BENCHMARK(BM_StokesPreconditioner)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The permeability tensor (three load cases) of the gyroid network at porosity 0.7; counters:
+// k_xx in cell-size^2, the largest MINRES iteration count, bytes per cell (128^3 takes
+// minutes: --benchmark_filter='Permeability/128').
+void BM_Permeability(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  FlowResult r;
+  for (auto _ : state) {
+    r = compute_permeability(n, s);
+    benchmark::DoNotOptimize(r.permeability.data());
+  }
+  int most = 0;
+  for (const auto& c : r.load_cases) most = std::max(most, c.iterations);
+  state.counters["minres_iterations"] = most;
+  state.counters["k11_cell2"] = r.permeability[0][0] / (double(n) * n);
+  state.counters["bytes_per_cell"] = double(r.bytes) / (double(n) * n * n);
+}
+BENCHMARK(BM_Permeability)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace cmcsurf::properties
