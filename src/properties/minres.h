@@ -16,19 +16,19 @@
 
 namespace cmcsurf::properties {
 
-// The six scratch vectors MINRES keeps besides x, each of size m.
+// The five scratch vectors MINRES keeps besides x, each of size m.
 struct MinresWork {
-  double *v_prev, *v, *q, *z, *w_prev, *w;
+  double *v_prev, *v, *z, *w_prev, *w;
 };
 
-// Solves K x = b from x = 0; on entry wk.v holds b. apply(a, y): y = K a; precondition(r, z):
-// z = M^-1 r.
-template <class Apply, class Precondition>
-CgStats minres(std::size_t m, Apply&& apply, Precondition&& precondition, double* x,
+// Solves K x = b from x = 0; on entry wk.v holds b. apply_add(a, y): y += K a, returning
+// a . K a (so no vector holds K a alone); precondition(r, z): z = M^-1 r.
+template <class ApplyAdd, class Precondition>
+CgStats minres(std::size_t m, ApplyAdd&& apply_add, Precondition&& precondition, double* x,
                MinresWork wk, const CgOptions& o) {
   using cg_detail::dot;
   CgStats st;
-  double *v_prev = wk.v_prev, *v = wk.v, *q = wk.q, *z = wk.z, *w_prev = wk.w_prev, *w = wk.w;
+  double *v_prev = wk.v_prev, *v = wk.v, *z = wk.z, *w_prev = wk.w_prev, *w = wk.w;
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < m; ++k) {
     x[k] = 0.0;
@@ -48,18 +48,22 @@ CgStats minres(std::size_t m, Apply&& apply, Precondition&& precondition, double
       return st;
     }
     if (st.iterations >= o.max_iterations || !(gamma > 0.0)) return st;
-    const double inv_gamma = 1.0 / gamma;
+    // Lanczos: v_{j+1} = K z_j - (delta / gamma) v_j - (gamma / gamma_prev) v_{j-1}, built in
+    // place of v_{j-1}.
+    const double inv_gamma = 1.0 / gamma, bb = gamma / gamma_prev;
 #pragma omp parallel for schedule(static)
-    for (std::size_t k = 0; k < m; ++k) z[k] *= inv_gamma;
-    apply(z, q);
-    const double delta = dot(m, q, z);
-    // Lanczos: the next v in place of v_prev. The rotations' a2, a3 do not need the next
-    // gamma, so w_prev takes z - a3 w_prev - a2 w now and z is free for the next z.
-    const double a = delta / gamma, bb = gamma / gamma_prev;
+    for (std::size_t k = 0; k < m; ++k) {
+      z[k] *= inv_gamma;
+      v_prev[k] *= -bb;
+    }
+    const double delta = apply_add(z, v_prev);
+    const double a = delta / gamma;
+    // The rotations' a2, a3 do not need the next gamma, so w_prev takes z - a3 w_prev - a2 w
+    // now and z is free for the next z.
     const double a2 = s * delta + c_prev * c * gamma, a3 = s_prev * gamma;
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < m; ++k) {
-      v_prev[k] = q[k] - a * v[k] - bb * v_prev[k];
+      v_prev[k] -= a * v[k];
       w_prev[k] = z[k] - a3 * w_prev[k] - a2 * w[k];
     }
     std::swap(v_prev, v);  // v: v_{j+1}, v_prev: v_j

@@ -196,8 +196,8 @@ FlowResult compute_permeability(int n, const std::vector<double>& s, const FlowO
   res.percolates = perc.percolates;
   res.closed_pore_fraction = perc.closed_pore_fraction;
   StokesPreconditioner pre(op, o.sigma);
-  Vec x(size), v_prev(size), v(size), q(size), z(size), w_prev(size), w(size);
-  res.bytes = 7 * size * sizeof(double) + op.bytes() + pre.bytes();
+  Vec x(size), v_prev(size), v(size), z(size), w_prev(size), w(size);
+  res.bytes = 6 * size * sizeof(double) + op.bytes() + pre.bytes();
   const CgOptions cg{o.tolerance, 1e-14 * std::sqrt(double(m)), o.max_iterations};
   std::vector<double> div(m);
   Matrix3 k{};
@@ -213,9 +213,9 @@ FlowResult compute_permeability(int n, const std::vector<double>& s, const FlowO
     for (std::size_t f = 0; f < m; ++f)
       v[j * m + f] = op.face_volume(j, f);  // body force -dP/dx_j = 1 on the control volume
     const CgStats st = minres(
-        size, [&](const double* a, double* y) { op.apply(a, y); },
+        size, [&](const double* a, double* y) { return op.apply_add(a, y); },
         [&](const double* r, double* y) { pre.apply(r, y); }, x.data(),
-        MinresWork{v_prev.data(), v.data(), q.data(), z.data(), w_prev.data(), w.data()}, cg);
+        MinresWork{v_prev.data(), v.data(), z.data(), w_prev.data(), w.data()}, cg);
     res.load_cases[j] = {st.iterations, st.relative_residual, st.converged, seconds_since(tc)};
     double umax = 0.0, speed = 0.0, along = 0.0;
     for (int c = 0; c < 3; ++c) {

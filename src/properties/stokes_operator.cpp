@@ -103,13 +103,18 @@ std::size_t StokesOperator::bytes() const {
   return (diag_.size() + area_.size()) * sizeof(float) + links_.size() + active_.size();
 }
 
-void StokesOperator::apply(const double* x, double* y) const {
-  const int n = n_;
-  const std::size_t m = cells(), nn = std::size_t(n) * n;
-  const double mu = mu_;
+namespace {
+
+// The stencil of StokesOperator: y = K x (kAdd false) or y += K x (kAdd true); returns x . K x.
+template <bool kAdd>
+double stokes_stencil(int n, double mu, const float* diag, const float* area,
+                      const std::uint8_t* links, const std::uint8_t* active, const double* x,
+                      double* y) {
+  const std::size_t m = std::size_t(n) * n * n, nn = std::size_t(n) * n;
   const double* p = x + 3 * m;
   double* yp = y + 3 * m;
-#pragma omp parallel for schedule(static)
+  double xkx = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : xkx)
   for (int k = 0; k < n; ++k) {
     const std::size_t zm = std::size_t(wrap(k - 1, n)) * nn, z0 = std::size_t(k) * nn,
                       zp = std::size_t(wrap(k + 1, n)) * nn;
@@ -126,26 +131,43 @@ void StokesOperator::apply(const double* x, double* y) const {
         for (int c = 0; c < 3; ++c) {
           const std::size_t o = c * m;
           const double* u = x + o;
-          const float dq = diag_[o + q];
+          const float dq = diag[o + q];
           // Divergence of voxel q: its + face along c is face nb[2c + 1].
-          const float a_up = area_[o + nb[2 * c + 1]], a0 = area_[o + q];
+          const float a_up = area[o + nb[2 * c + 1]], a0 = area[o + q];
           const double up = a_up > 0.0f ? a_up * u[nb[2 * c + 1]] : 0.0;
           const double u0 = a0 > 0.0f ? a0 * u[q] : 0.0;
           div += up - u0;
           if (dq == 0.0f) {
-            y[o + q] = 0.0;
+            if (!kAdd) y[o + q] = 0.0;
             continue;
           }
-          const std::uint8_t bits = links_[o + q];
+          const std::uint8_t bits = links[o + q];
           double acc = double(dq) * u[q];
           for (int d = 0; d < 6; ++d)
             if (bits >> d & 1) acc -= u[nb[d]];
-          y[o + q] = mu * acc + a0 * (p[q] - p[nb[2 * c]]);
+          const double ku = mu * acc + a0 * (p[q] - p[nb[2 * c]]);
+          xkx += u[q] * ku;
+          y[o + q] = kAdd ? y[o + q] + ku : ku;
         }
-        yp[q] = active_[q] ? -div : 0.0;
+        const double kp = active[q] ? -div : 0.0;
+        xkx += p[q] * kp;
+        yp[q] = kAdd ? yp[q] + kp : kp;
       }
     }
   }
+  return xkx;
+}
+
+}  // namespace
+
+void StokesOperator::apply(const double* x, double* y) const {
+  stokes_stencil<false>(n_, mu_, diag_.data(), area_.data(), links_.data(), active_.data(), x,
+                        y);
+}
+
+double StokesOperator::apply_add(const double* x, double* y) const {
+  return stokes_stencil<true>(n_, mu_, diag_.data(), area_.data(), links_.data(),
+                              active_.data(), x, y);
 }
 
 void StokesOperator::apply_ref(const double* x, double* y) const {

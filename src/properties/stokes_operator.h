@@ -61,6 +61,9 @@ class StokesOperator {
 
   // y = K x (x, y of size(), not aliased). OpenMP over z layers.
   void apply(const double* x, double* y) const;
+  // y += K x in the same pass, returning x . K x (on the fluid faces and active voxels): what
+  // MINRES needs without a vector for K x.
+  double apply_add(const double* x, double* y) const;
   // Plain twin: recomputes every face and link from the fractions, one thread.
   void apply_ref(const double* x, double* y) const;
 

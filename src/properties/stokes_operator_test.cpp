@@ -63,6 +63,21 @@ TEST(StokesOperator, ApplyMatchesReference) {
   }
 }
 
+// y += K x and x . K x in one pass: the same as apply and a dot product.
+TEST(StokesOperator, ApplyAddMatchesApply) {
+  const int n = 6;
+  const auto s = random_solid(n, 21);
+  const StokesOperator op(n, s);
+  const Vec x = random_vec(op.size(), 3), y0 = random_vec(op.size(), 4);
+  Vec kx(op.size()), y = y0;
+  op.apply(x.data(), kx.data());
+  const double xkx = op.apply_add(x.data(), y.data());
+  Vec expected(op.size());
+  for (std::size_t q = 0; q < y.size(); ++q) expected[q] = y0[q] + kx[q];
+  EXPECT_LT(max_diff(y, expected), 1e-13 * max_abs(expected));
+  EXPECT_NEAR(xkx, dot(x, kx), 1e-12 * std::abs(dot(x, kx)));
+}
+
 // x^T K y = y^T K x for vectors that vanish on solid faces and inactive voxels (the space
 // the iteration lives in).
 TEST(StokesOperator, IsSymmetric) {
@@ -140,18 +155,28 @@ TEST(Minres, SolvesASymmetricIndefiniteSystem) {
     d[i] = 0.5 + std::abs(u(rng));
   }
   const Vec b = random_vec(m, 31);
-  Vec x(m), v_prev(m), v(b), q(m), z(m), w_prev(m), w(m);
+  Vec x(m), v_prev(m), v(b), z(m), w_prev(m), w(m);
   auto apply = [&](const double* p, double* y) {
     for (std::size_t i = 0; i < m; ++i) {
       y[i] = 0.0;
       for (std::size_t j = 0; j < m; ++j) y[i] += a[i * m + j] * p[j];
     }
   };
+  auto apply_add = [&](const double* p, double* y) {
+    Vec ap(m);
+    apply(p, ap.data());
+    double pap = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      y[i] += ap[i];
+      pap += p[i] * ap[i];
+    }
+    return pap;
+  };
   const CgStats st = minres(
-      m, apply, [&](const double* r, double* y) {
+      m, apply_add, [&](const double* r, double* y) {
         for (std::size_t i = 0; i < m; ++i) y[i] = r[i] / d[i];
       },
-      x.data(), MinresWork{v_prev.data(), v.data(), q.data(), z.data(), w_prev.data(), w.data()},
+      x.data(), MinresWork{v_prev.data(), v.data(), z.data(), w_prev.data(), w.data()},
       CgOptions{1e-12, 0.0, 200});
   EXPECT_TRUE(st.converged);
   EXPECT_LE(st.iterations, int(m) + 5);
