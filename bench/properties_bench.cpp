@@ -137,7 +137,7 @@ void BM_StokesPreconditioner(benchmark::State& state) {
   const int n = int(state.range(0));
   const auto s = gyroid(n);
   const StokesOperator op(n, s);
-  const StokesPreconditioner pre(op, FlowOptions{}.sigma);
+  const StokesPreconditioner pre(op, automatic_sigma(n, s));
   const Vec r = random_vec(op.size());
   Vec z(op.size());
   for (auto _ : state) {

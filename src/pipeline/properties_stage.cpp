@@ -173,9 +173,11 @@ nlohmann::json cell_json(const CellProperties& p, const PropertiesRequest& r, do
         solver_json(p.pore_conduction.load_cases.data(), 3, p.pore_conduction.converged,
                     p.pore_conduction.seconds, p.pore_conduction.bytes);
   }
-  if (r.flow)
+  if (r.flow) {
     solver["flow"] = solver_json(p.flow.load_cases.data(), 3, p.flow.converged, p.flow.seconds,
                                  p.flow.bytes);
+    solver["flow"]["preconditioner_shift"] = p.flow.sigma;
+  }
   solver["removed_solid_fraction"] = p.elastic.removed_solid_fraction;
   j["solver"] = solver;
   j["seconds"] = p.seconds;

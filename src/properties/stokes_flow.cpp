@@ -178,6 +178,16 @@ double specific_surface(int n, const std::vector<double>& s) {
   return sum / (double(n) * n * n);
 }
 
+double automatic_sigma(int n, const std::vector<double>& s) {
+  double solid = 0.0;
+  for (double v : s) solid += v;
+  const double porosity = 1.0 - solid / double(s.size());
+  const double surface = specific_surface(n, s);
+  if (!(surface > 0.0 && porosity > 0.0)) return 1.0;
+  const double width = 2.0 * porosity / surface;
+  return std::clamp(M_PI * M_PI / (width * width), 1e-4, 1.0);
+}
+
 FlowResult compute_permeability(int n, const std::vector<double>& s, const FlowOptions& o,
                                 const FlowVisitor& visit) {
   if (n < 2 || s.size() != std::size_t(n) * n * n)
@@ -195,7 +205,8 @@ FlowResult compute_permeability(int n, const std::vector<double>& s, const FlowO
   const FlowPercolation perc = flow_percolation(op);
   res.percolates = perc.percolates;
   res.closed_pore_fraction = perc.closed_pore_fraction;
-  StokesPreconditioner pre(op, o.sigma);
+  res.sigma = o.sigma > 0.0 ? o.sigma : automatic_sigma(n, s);
+  StokesPreconditioner pre(op, res.sigma);
   Vec x(size), v_prev(size), v(size), z(size), w_prev(size), w(size);
   res.bytes = 6 * size * sizeof(double) + op.bytes() + pre.bytes();
   const CgOptions cg{o.tolerance, 1e-14 * std::sqrt(double(m)), o.max_iterations};

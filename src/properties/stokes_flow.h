@@ -27,8 +27,10 @@ struct FlowOptions {
   double tolerance = 1e-6;
   int max_iterations = 3000;  // per load case; beyond it the case is reported not converged
   double theta_min = 0.05;    // smallest wall distance of the cut cells (stokes_operator.h)
-  // Shift of the velocity preconditioner (stokes_preconditioner.h), voxels^-2.
-  double sigma = 0.05;
+  // Shift of the velocity preconditioner (stokes_preconditioner.h), voxels^-2; 0: the lowest
+  // Dirichlet eigenvalue of a channel of the pore space's hydraulic width w = 2 phi / S,
+  // (pi / w)^2 (S the specific surface per voxel, phi the porosity), within [1e-4, 1].
+  double sigma = 0.0;
 };
 
 struct FlowResult {
@@ -42,6 +44,7 @@ struct FlowResult {
   // cell-by-cell mass balance (the solver's tolerance, not round-off, bounds it).
   double max_divergence = 0.0;
   double fluid_face_fraction = 0.0;  // fluid faces / all faces
+  double sigma = 0.0;                // the preconditioner's shift used
   // Axes along which a cluster of voxels joined by fluid faces wraps around the cell (no
   // flow otherwise), and the pore volume (fraction of the cell: the voxels' 1 - s) in
   // clusters that wrap along no axis: closed pores, which carry no flow.
@@ -83,6 +86,9 @@ WallShearStats wall_shear_statistics(const StokesOperator& op, const double* x);
 // over the voxels / n^3, exact for a plane whose fractions are linear in the distance
 // (s = 1/2 + d / h across a one-voxel band).
 double specific_surface(int n, const std::vector<double>& solid_fraction);
+
+// FlowOptions::sigma's automatic value for these fractions.
+double automatic_sigma(int n, const std::vector<double>& solid_fraction);
 
 // Throws std::invalid_argument when the cell has no solid face (k unbounded).
 FlowResult compute_permeability(int n, const std::vector<double>& solid_fraction,
