@@ -32,7 +32,11 @@ struct PropertiesCommand {
   std::string material;  // E_GPa,nu
   bool compare_nodal = false;
   bool grid_check = false;
-  std::string only = "elastic,conductivity";
+  std::string only = "elastic,conductivity,flow";
+  double flow_rate = NAN;  // mL/min
+  double flow_area = NAN;  // units^2
+  double velocity = NAN;   // mm/s
+  double viscosity = PropertiesRequest{}.viscosity_mpa_s;
   double tolerance = 1e-5;
   double cell_size = 1.0;
   std::string units = "cell";
@@ -59,6 +63,10 @@ PropertiesRequest request_of(const PropertiesCommand& cmd) {
   r.compare_nodal = cmd.compare_nodal;
   r.grid_check = cmd.grid_check;
   r.tolerance = cmd.tolerance;
+  r.flow_rate_ml_min = cmd.flow_rate;
+  r.flow_area = cmd.flow_area;
+  r.velocity_mm_s = cmd.velocity;
+  r.viscosity_mpa_s = cmd.viscosity;
   if (const std::string why = check_properties_request(r); !why.empty()) throw UsageError(why);
   return r;
 }
@@ -110,6 +118,29 @@ void print_summary(const nlohmann::json& j) {
     std::cerr << line << "\n";
     row("pore tortuosity (x)", "tortuosity_pore", 0);
     row("k solid / HS upper bound", "conductivity_solid", -1, "fraction_of_bound");
+  }
+  if (j.contains("permeability")) {
+    auto tensor_row = [&](const std::string& label, const char* key) {
+      std::string line = fmt::format("{:<34}", label);
+      for (const auto& s : sides) {
+        const nlohmann::json& side = *s.second;
+        const std::string v =
+            side.contains(key) ? fmt::format("{:.4g}", side[key][0][0].get<double>()) : "-";
+        line += fmt::format("{:>14}", v);
+      }
+      std::cerr << line << "\n";
+    };
+    tensor_row("permeability k_xx / cell^2", "permeability");
+    if (j.contains("permeability_m2")) tensor_row("permeability k_xx (m^2)", "permeability_m2");
+    row("hydraulic tortuosity (x)", "hydraulic_tortuosity", 0);
+    row("specific surface (1/cell)", "specific_surface", -1);
+    row("Kozeny-Carman constant", "kozeny_carman_constant", -1);
+    row("wall shear median (z, mu U/L)", "median", -1, "wall_shear_stress");
+    if (j.contains("wall_shear_stress_mpa")) {
+      row("wall shear mean (z, mPa)", "mean", -1, "wall_shear_stress_mpa");
+      row("wall shear p95 (z, mPa)", "p95", -1, "wall_shear_stress_mpa");
+      row("pressure drop (z, Pa/m)", "pressure_drop_pa_per_m", -1);
+    }
   }
   for (const auto& s : sides)
     for (const auto& w : (*s.second)["warnings"])
@@ -195,10 +226,20 @@ CommandFn add_properties_command(CLI::App& root) {
                 "sheet |F| < c, and the constant-thickness offset of F = 0)");
   app->add_flag("--grid-check", cmd->grid_check,
                 "Also solve on N/2 and give Richardson error estimates (*_error keys)");
-  app->add_option("--only", cmd->only, "What to compute: elastic, conductivity (a list)")
+  app->add_option("--only", cmd->only, "What to compute: elastic, conductivity, flow (a list)")
+      ->capture_default_str();
+  app->add_option("--flow-rate", cmd->flow_rate,
+                  "Flow: mL/min through --flow-area (along z), for wall shear stress in mPa and "
+                  "the pressure drop");
+  app->add_option("--flow-area", cmd->flow_area, "Flow: the cross-section, in --units^2");
+  app->add_option("--velocity", cmd->velocity,
+                  "Flow: superficial (Darcy) velocity along z in mm/s, instead of --flow-rate");
+  app->add_option("--viscosity", cmd->viscosity, "Flow: the fluid's viscosity, mPa s (water at "
+                  "37 C)")
       ->capture_default_str();
   app->add_option("--tolerance", cmd->tolerance, "CG's relative residual")->capture_default_str();
-  app->add_option("--cell-size", cmd->cell_size, "Units per unit cell, for --thickness")
+  app->add_option("--cell-size", cmd->cell_size,
+                  "Units per unit cell, for --thickness and permeability_m2")
       ->capture_default_str();
   app->add_option("--units", cmd->units, "Name of the length unit")->capture_default_str();
   app->add_option("--out", cmd->out, "FILE.json (default: DIR/properties.json)");

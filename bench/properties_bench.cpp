@@ -1,13 +1,17 @@
 // Google Benchmark kernels of the properties solvers (docs/properties.md): the voxel stencil,
-// the FFT preconditioner and a full homogenisation, on the nodal gyroid network at porosity 0.7.
+// the FFT preconditioner and a full homogenisation, on the nodal gyroid network at porosity 0.7;
+// the Stokes stencil, its preconditioner and the permeability tensor.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "properties/fft_preconditioner.h"
 #include "properties/homogenize.h"
 #include "properties/solid_fraction.h"
+#include "properties/stokes_flow.h"
+#include "properties/stokes_preconditioner.h"
 #include "properties/voxel_element.h"
 #include "properties/voxel_operator.h"
 
@@ -110,6 +114,102 @@ void BM_HomogenizeConductivity(benchmark::State& state) {
 }
 BENCHMARK(BM_HomogenizeConductivity)
     ->ArgsProduct({{32, 64, 128}, {0, 1}})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+// y = K x of the Stokes system (velocity and pressure); counts cells per second.
+void BM_StokesStencil(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  const StokesOperator op(n, s);
+  const Vec x = random_vec(op.size());
+  Vec y(op.size());
+  for (auto _ : state) {
+    op.apply(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.cells()));
+}
+BENCHMARK(BM_StokesStencil)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The block preconditioner: three FFT Laplacian solves and the pressure scaling.
+void BM_StokesPreconditioner(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  const StokesOperator op(n, s);
+  const StokesPreconditioner pre(op, automatic_sigma(n, s));
+  const Vec r = random_vec(op.size());
+  Vec z(op.size());
+  for (auto _ : state) {
+    pre.apply(r.data(), z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.cells()));
+}
+BENCHMARK(BM_StokesPreconditioner)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The permeability tensor (three load cases) of the gyroid network at porosity 0.7; counters:
+// k_xx in cell-size^2, the largest MINRES iteration count, bytes per cell (128^3 takes
+// minutes: --benchmark_filter='Permeability/128').
+void BM_Permeability(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  FlowResult r;
+  for (auto _ : state) {
+    r = compute_permeability(n, s);
+    benchmark::DoNotOptimize(r.permeability.data());
+  }
+  int most = 0;
+  for (const auto& c : r.load_cases) most = std::max(most, c.iterations);
+  state.counters["minres_iterations"] = most;
+  state.counters["k11_cell2"] = r.permeability[0][0] / (double(n) * n);
+  state.counters["bytes_per_cell"] = double(r.bytes) / (double(n) * n * n);
+}
+BENCHMARK(BM_Permeability)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kSecond)->Iterations(1);
+
+// Exact flows (docs/properties.md, "Validation"): kind 0 the slit y in [0.2718 n, 0.7281 n]
+// (k = phi w^2 / 12), kind 1 the tube of radius 0.3 n around (n/2 + 0.1, n/2 - 0.23) along z
+// (k = phi R^2 / 8, fractions from 64 x 64 subsamples); staircase 1 rounds every fraction to 0
+// or 1. Counter: k / exact - 1.
+void BM_PermeabilityExactFlows(benchmark::State& state) {
+  const int n = int(state.range(0)), kind = int(state.range(1));
+  std::vector<double> s(std::size_t(n) * n * n);
+  double exact = 0.0;
+  int axis = 0;
+  if (kind == 0) {
+    const double a = 0.2718 * n, w = 0.4563 * n;
+    for (std::size_t q = 0; q < s.size(); ++q) {
+      const double j = double(q / n % n);
+      s[q] = 1.0 - std::max(0.0, std::min(j + 1.0, a + w) - std::max(j, a));
+    }
+    exact = (w / n) * w * w / 12.0;
+  } else {
+    const double r = 0.3 * n, cx = 0.5 * n + 0.1, cy = 0.5 * n - 0.23;
+    const int sub = 64;
+    for (std::size_t q = 0; q < s.size(); ++q) {
+      const int i = int(q % n), j = int(q / n % n);
+      int inside = 0;
+      for (int b = 0; b < sub; ++b)
+        for (int a = 0; a < sub; ++a) {
+          const double x = i + (a + 0.5) / sub - cx, y = j + (b + 0.5) / sub - cy;
+          inside += x * x + y * y < r * r;
+        }
+      s[q] = 1.0 - double(inside) / (sub * sub);
+    }
+    exact = M_PI * r * r / (double(n) * n) * r * r / 8.0;
+    axis = 2;
+  }
+  if (state.range(2))
+    for (double& v : s) v = v >= 0.5 ? 1.0 : 0.0;
+  FlowResult r;
+  for (auto _ : state) {
+    r = compute_permeability(n, s);
+    benchmark::DoNotOptimize(r.permeability.data());
+  }
+  state.counters["k_over_exact_minus_1"] = r.permeability[axis][axis] / exact - 1.0;
+}
+BENCHMARK(BM_PermeabilityExactFlows)
+    ->ArgsProduct({{32, 64}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

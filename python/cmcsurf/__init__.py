@@ -313,11 +313,15 @@ def properties(
     material: Optional[Tuple[float, float]] = None,
     compare_nodal: bool = False,
     grid_check: bool = False,
-    only: Union[str, Tuple[str, ...]] = ("elastic", "conductivity"),
+    only: Union[str, Tuple[str, ...]] = ("elastic", "conductivity", "flow"),
     tolerance: float = 1e-5,
     cell_size: float = 1.0,
     units: str = "cell",
     surface: Optional[str] = None,
+    flow_rate: Optional[float] = None,
+    flow_area: Optional[float] = None,
+    velocity: Optional[float] = None,
+    viscosity: Optional[float] = None,
     threads: int = 0,
 ) -> Dict[str, Any]:
     """Effective stiffness and conductivities of a :class:`Result`'s (or an (N, N, N) field's)
@@ -329,12 +333,19 @@ def properties(
     "sheet" (a wall of ``thickness`` in ``units`` of ``cell_size`` per cell, or at
     ``porosity``); ``material`` (E_GPa, nu) adds the moduli in GPa; ``compare_nodal`` adds the
     nodal part at the same porosity (``surface`` names the formula for a plain array);
-    ``grid_check`` adds ``*_error`` keys from N/2.
+    ``grid_check`` adds ``*_error`` keys from N/2. Flow (in ``only`` by default):
+    ``permeability`` (cell_size^2; ``permeability_m2`` when ``units`` is physical),
+    ``hydraulic_tortuosity``, ``specific_surface``, ``kozeny_carman_constant``,
+    ``wall_shear_stress``; with ``flow_rate`` (mL/min through ``flow_area`` in units^2) or
+    ``velocity`` (mm/s) and ``viscosity`` (mPa s, water at 37 C by default) also
+    ``wall_shear_stress_mpa`` and ``pressure_drop_pa_per_m``.
     """
     options: Dict[str, Any] = {"solid": solid, "phase": phase, "porosity": porosity,
                                "thickness": thickness, "compare_nodal": compare_nodal,
                                "grid_check": grid_check, "only": only, "tolerance": tolerance,
-                               "cell_size": cell_size, "units": units, "surface": surface}
+                               "cell_size": cell_size, "units": units, "surface": surface,
+                               "flow_rate": flow_rate, "flow_area": flow_area,
+                               "velocity": velocity, "viscosity": viscosity}
     if material is not None:
         try:
             e, nu = material

@@ -895,7 +895,8 @@ std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handl
 
 // cmcsurf properties of a Result or an (N, N, N) field (pipeline/properties_stage.h): the
 // dictionary of FILE.json. options: solid, phase, porosity, thickness, youngs_modulus_gpa,
-// poisson_ratio, only (list), compare_nodal, grid_check, tolerance, cell_size, units, surface.
+// poisson_ratio, only (list), compare_nodal, grid_check, tolerance, cell_size, units, surface,
+// flow_rate, flow_area, velocity, viscosity.
 py::object properties(py::handle source, const py::dict& o, py::handle threads) {
   std::optional<Field> owned;
   const Field* phi = nullptr;
@@ -931,6 +932,10 @@ py::object properties(py::handle source, const py::dict& o, py::handle threads) 
   if (given("tolerance")) r.tolerance = real_option(o["tolerance"], "tolerance");
   if (given("units")) r.units = string_option(o["units"], "units");
   if (given("surface")) r.surface = string_option(o["surface"], "surface");
+  if (given("flow_rate")) r.flow_rate_ml_min = real_option(o["flow_rate"], "flow_rate");
+  if (given("flow_area")) r.flow_area = real_option(o["flow_area"], "flow_area");
+  if (given("velocity")) r.velocity_mm_s = real_option(o["velocity"], "velocity");
+  if (given("viscosity")) r.viscosity_mpa_s = real_option(o["viscosity"], "viscosity");
   if (const std::string why = check_properties_request(r); !why.empty())
     throw py::value_error(why);
   ThreadScope scope(threads);

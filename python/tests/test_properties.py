@@ -46,6 +46,25 @@ def test_properties_of_an_array_and_bad_arguments(member):
         cmcsurf.properties(phi, material=110)
     with pytest.raises(ValueError, match="compare-nodal"):
         cmcsurf.properties(phi, compare_nodal=True)  # an array names no nodal formula
+    with pytest.raises(ValueError, match="flow-area"):
+        cmcsurf.properties(phi, only="flow", flow_rate=1.0, units="mm")
+
+
+def test_flow_keys_in_physical_units(member):
+    p = cmcsurf.properties(member, only="flow", cell_size=2.0, units="mm", flow_rate=1.0,
+                           flow_area=16.0, threads=1)
+    assert "stiffness_voigt" not in p and "conductivity_solid" not in p
+    k = p["permeability"]
+    assert all(abs(k[i][i] - k[0][0]) < 1e-6 * k[0][0] for i in range(3))  # a cubic member
+    assert abs(p["permeability_m2"][0][0] - k[0][0] * 2e-3 ** 2) < 1e-12 * k[0][0]
+    u = 1e-6 / 60 / 16e-6  # 1 mL/min through 16 mm^2, m/s
+    assert abs(p["wall_shear_stress_mpa"]["superficial_velocity_m_s"] - u) < 1e-15
+    # Darcy: dP/dz = mu U / k (mu of water at 37 C, 0.692 mPa s)
+    assert abs(p["pressure_drop_pa_per_m"] - 0.692e-3 * u / p["permeability_m2"][2][2]) < 1e-9
+    tau = p["wall_shear_stress_mpa"]
+    assert 0 < tau["p5"] <= tau["median"] <= tau["p95"] <= tau["max"]
+    assert abs(sum(tau["histogram"]) - 1) < 1e-9
+    assert p["hydraulic_tortuosity"][0] > 1 and p["kozeny_carman_constant"] > 0
 
 
 def test_scattering_equals_the_cli_file(member, tmp_path):

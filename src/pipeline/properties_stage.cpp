@@ -16,6 +16,7 @@ namespace cmcsurf {
 namespace {
 
 using properties::CellProperties;
+using properties::WallShearStats;
 using properties::Matrix3;
 using properties::Matrix6;
 using properties::Vector3;
@@ -40,6 +41,65 @@ nlohmann::json solver_json(const properties::LoadCaseStats* cases, int count, bo
           {"converged", converged},
           {"seconds", seconds},
           {"memory_bytes", bytes}};
+}
+
+// The superficial velocity of the request in m/s (NaN when no flow is given).
+double superficial_velocity(const PropertiesRequest& r) {
+  if (std::isfinite(r.velocity_mm_s)) return r.velocity_mm_s * 1e-3;
+  const double m = metres_per_unit(r.units);
+  if (std::isfinite(r.flow_rate_ml_min) && std::isfinite(r.flow_area) && std::isfinite(m))
+    return r.flow_rate_ml_min * 1e-6 / 60.0 / (r.flow_area * m * m);
+  return NAN;
+}
+
+// Flow keys (docs/properties.md, "Flow"): permeability in cell-size^2 (the solver's voxel^2
+// / n^2) and m^2 when the units are known; wall shear stress normalised by mu U / L (U the
+// superficial velocity, L the cell size) and, for a given flow, in mPa with the pressure drop.
+void add_flow_keys(nlohmann::json& j, const CellProperties& p, const PropertiesRequest& r) {
+  const double n2 = double(p.n) * p.n;
+  Matrix3 k = p.flow.permeability;
+  for (auto& row : k)
+    for (double& x : row) x /= n2;
+  j["permeability"] = to_json(k);
+  const double m = metres_per_unit(r.units), cell_m = r.cell_size * m;
+  if (std::isfinite(cell_m)) {
+    Matrix3 km = k;
+    for (auto& row : km)
+      for (double& x : row) x *= cell_m * cell_m;
+    j["permeability_m2"] = to_json(km);
+  }
+  j["hydraulic_tortuosity"] = to_json(p.flow.hydraulic_tortuosity);
+  j["specific_surface"] = p.specific_surface * p.n;  // per cell size
+  j["kozeny_carman_constant"] = p.kozeny_carman_constant;
+  j["closed_pore_fraction"] = p.flow.closed_pore_fraction;
+  j["flow_percolates"] = p.flow.percolates;
+  // tau in solver units (mu = 1, unit gradient, h = 1) times mu U / (k_zz h): with L = n h,
+  // tau L / (mu U) = tau_solver n / k_zz,solver.
+  const double kzz = p.flow.permeability[2][2];
+  const WallShearStats& w = p.wall_shear;
+  if (kzz > 0.0 && w.wall_area > 0.0) {
+    const double to_normalised = double(p.n) / kzz;
+    nlohmann::json tau = {{"axis", "z"},
+                          {"normalisation", "mu U / L (U superficial velocity, L cell size)"},
+                          {"mean", w.mean * to_normalised},
+                          {"median", w.median * to_normalised},
+                          {"p5", w.p5 * to_normalised},
+                          {"p95", w.p95 * to_normalised},
+                          {"max", w.max * to_normalised},
+                          {"histogram", w.histogram}};
+    j["wall_shear_stress"] = tau;
+    const double u = superficial_velocity(r);
+    if (std::isfinite(u) && std::isfinite(cell_m)) {
+      const double scale = r.viscosity_mpa_s * 1e-3 * u / cell_m * 1e3;  // mPa per unit
+      nlohmann::json mpa = {{"axis", "z"}, {"superficial_velocity_m_s", u}};
+      for (const char* key : {"mean", "median", "p5", "p95", "max"})
+        mpa[key] = tau[key].get<double>() * scale;
+      mpa["histogram"] = w.histogram;
+      j["wall_shear_stress_mpa"] = mpa;
+      // Darcy: dP/dz = mu U / k_zz.
+      j["pressure_drop_pa_per_m"] = r.viscosity_mpa_s * 1e-3 * u / (k[2][2] * cell_m * cell_m);
+    }
+  }
 }
 
 // The keys of one solid's properties (docs/properties.md names them). E: the solid's Young's
@@ -98,6 +158,7 @@ nlohmann::json cell_json(const CellProperties& p, const PropertiesRequest& r, do
     }
   j["hashin_shtrikman_upper"] = bound;
   j["fraction_of_bound"] = reached;
+  if (r.flow) add_flow_keys(j, p, r);
   j["percolates"] = {{"solid", p.solid_percolates}, {"pore", p.pore_percolates}};
   j["warnings"] = p.warnings;
   nlohmann::json solver = {{"tolerance", r.tolerance}};
@@ -111,6 +172,11 @@ nlohmann::json cell_json(const CellProperties& p, const PropertiesRequest& r, do
     solver["conductivity_pore"] =
         solver_json(p.pore_conduction.load_cases.data(), 3, p.pore_conduction.converged,
                     p.pore_conduction.seconds, p.pore_conduction.bytes);
+  }
+  if (r.flow) {
+    solver["flow"] = solver_json(p.flow.load_cases.data(), 3, p.flow.converged, p.flow.seconds,
+                                 p.flow.bytes);
+    solver["flow"]["preconditioner_shift"] = p.flow.sigma;
   }
   solver["removed_solid_fraction"] = p.elastic.removed_solid_fraction;
   j["solver"] = solver;
@@ -130,7 +196,8 @@ nlohmann::json richardson_error(const nlohmann::json& fine, const nlohmann::json
 
 constexpr const char* kCheckedKeys[] = {
     "stiffness_voigt", "youngs_modulus", "shear_modulus", "poisson_ratio",    "bulk_modulus",
-    "zener_ratio",     "conductivity_solid", "conductivity_pore", "tortuosity_pore"};
+    "zener_ratio",     "conductivity_solid", "conductivity_pore", "tortuosity_pore",
+    "permeability",    "hydraulic_tortuosity"};
 
 // One solid's properties, with the grid check's *_error keys when asked.
 nlohmann::json solid_properties(const VoxelSolid& v, const PropertiesRequest& r,
@@ -140,6 +207,7 @@ nlohmann::json solid_properties(const VoxelSolid& v, const PropertiesRequest& r,
   o.poisson_ratio = r.poisson_ratio;
   o.elasticity = r.elastic;
   o.conductivity = r.conductivity;
+  o.flow = r.flow;
   o.solver.tolerance = r.tolerance;
   const int n = v.fraction.n();
   const std::vector<double> s = properties::voxel_values(v.fraction);
@@ -204,8 +272,17 @@ void set_properties_solid(PropertiesRequest& r, const std::string& solid, long l
   r.solid.thickness = by_thickness ? thickness : 0.0;
 }
 
+double metres_per_unit(const std::string& units) {
+  if (units == "um") return 1e-6;
+  if (units == "mm") return 1e-3;
+  if (units == "cm") return 1e-2;
+  if (units == "m") return 1.0;
+  if (units == "in") return 0.0254;
+  return NAN;
+}
+
 void set_properties_only(PropertiesRequest& r, const std::string& only) {
-  r.elastic = r.conductivity = false;
+  r.elastic = r.conductivity = r.flow = false;
   std::size_t start = 0;
   while (start <= only.size()) {
     const std::size_t comma = std::min(only.find(',', start), only.size());
@@ -214,9 +291,11 @@ void set_properties_only(PropertiesRequest& r, const std::string& only) {
       r.elastic = true;
     else if (part == "conductivity")
       r.conductivity = true;
+    else if (part == "flow")
+      r.flow = true;
     else
       throw std::invalid_argument(
-          fmt::format("--only: got '{}'; accepted: a list of elastic, conductivity", part));
+          fmt::format("--only: got '{}'; accepted: a list of elastic, conductivity, flow", part));
     start = comma + 1;
   }
 }
@@ -253,7 +332,24 @@ std::string check_properties_request(const PropertiesRequest& r) {
     return fmt::format("--material: nu {}; accepted: -1 < nu < 0.5", r.poisson_ratio);
   if (!(r.tolerance >= 1e-12 && r.tolerance <= 1e-2))
     return fmt::format("--tolerance: got {}; accepted: 1e-12 to 1e-2", r.tolerance);
-  if (!r.elastic && !r.conductivity) return "--only: nothing to compute";
+  if (!r.elastic && !r.conductivity && !r.flow) return "--only: nothing to compute";
+  if (!(r.viscosity_mpa_s > 0.0 && r.viscosity_mpa_s <= 1e6))
+    return fmt::format("--viscosity: got {} mPa s; accepted: 0 < mu <= 1e6", r.viscosity_mpa_s);
+  const bool rate = !std::isnan(r.flow_rate_ml_min), area = !std::isnan(r.flow_area),
+             velocity = !std::isnan(r.velocity_mm_s);
+  if (velocity && (rate || area))
+    return "--velocity: give either --velocity or --flow-rate with --flow-area, not both";
+  if (rate != area) return "--flow-rate and --flow-area: give both (mL/min through units^2)";
+  if (rate && !(r.flow_rate_ml_min > 0.0 && std::isfinite(r.flow_rate_ml_min)))
+    return fmt::format("--flow-rate: got {} mL/min; accepted: > 0", r.flow_rate_ml_min);
+  if (area && !(r.flow_area > 0.0 && std::isfinite(r.flow_area)))
+    return fmt::format("--flow-area: got {}; accepted: > 0 ({}^2)", r.flow_area, r.units);
+  if (velocity && !(r.velocity_mm_s > 0.0 && std::isfinite(r.velocity_mm_s)))
+    return fmt::format("--velocity: got {} mm/s; accepted: > 0", r.velocity_mm_s);
+  if ((rate || velocity) && std::isnan(metres_per_unit(r.units)))
+    return fmt::format("--flow-rate/--velocity: need a physical --units (um, mm, cm, m, in) and "
+                       "--cell-size; got --units {}",
+                       r.units);
   if (!(r.cell_size > 0.0 && std::isfinite(r.cell_size)))
     return fmt::format("--cell-size: got {}; accepted: > 0", r.cell_size);
   return {};
@@ -316,7 +412,8 @@ double mean3(const nlohmann::json& v) {
 void add_summary(nlohmann::json& out, const nlohmann::json& p, const std::string& prefix) {
   if (p.contains("relative_density")) out[prefix + "relative_density"] = p["relative_density"];
   for (const char* key : {"youngs_modulus", "shear_modulus", "poisson_ratio",
-                          "conductivity_solid", "conductivity_pore", "tortuosity_pore"}) {
+                          "conductivity_solid", "conductivity_pore", "tortuosity_pore",
+                          "permeability", "hydraulic_tortuosity"}) {
     if (p.contains(key)) out[prefix + key] = mean3(p[key]);
     const std::string error = std::string(key) + "_error";
     if (p.contains(error)) out[prefix + error] = mean3(p[error]);

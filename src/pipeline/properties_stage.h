@@ -21,6 +21,14 @@ struct PropertiesRequest {
   double poisson_ratio = 0.3;       // nu_s
   bool elastic = true;              // --only elastic,conductivity
   bool conductivity = true;
+  bool flow = true;                 // Stokes flow through the pores (--only ...,flow)
+  // Flow for the wall shear stress and pressure drop (along z): a volumetric flow rate in
+  // mL/min through a cross-section of flow_area (--units^2), or a superficial (Darcy) mean
+  // velocity in mm/s; the fluid's viscosity in mPa s (water at 37 C: 0.692).
+  double flow_rate_ml_min = NAN;
+  double flow_area = NAN;
+  double velocity_mm_s = NAN;
+  double viscosity_mpa_s = 0.692;
   bool compare_nodal = false;       // the nodal twin(s) at the same porosity
   bool grid_check = false;          // N and N/2, Richardson, *_error
   double tolerance = 1e-5;          // CG's relative residual
@@ -40,8 +48,12 @@ void set_properties_only(PropertiesRequest& r, const std::string& only);
 // accepted form (the ranges are check_properties_request's).
 void set_properties_material(PropertiesRequest& r, const std::string& material);
 
+// Metres per unit of --units ("um", "mm", "cm", "m", "in"); NaN for "cell" or unknown.
+double metres_per_unit(const std::string& units);
+
 // Why the request cannot be computed ("" if it can), naming the option: ranges of
-// --material, --tolerance, --porosity/--thickness, --only.
+// --material, --tolerance, --porosity/--thickness, --only, --flow-rate/--flow-area/--velocity,
+// --viscosity.
 std::string check_properties_request(const PropertiesRequest& r);
 
 // The properties of the CMC field's solid (and, with compare_nodal, the nodal part as peer
@@ -54,7 +66,8 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
 // The scalars of a properties dictionary for report.json's top level and sweep.csv's columns:
 // properties_relative_density, properties_youngs_modulus (mean over x, y, z), ..._shear_modulus,
 // ..._poisson_ratio, ..._bulk_modulus, ..._zener_ratio, ..._conductivity_solid and
-// ..._conductivity_pore (mean diagonals), ..._tortuosity_pore (mean), with their *_error when
+// ..._conductivity_pore (mean diagonals), ..._tortuosity_pore (mean), ..._permeability (mean
+// diagonal, cell-size^2), ..._hydraulic_tortuosity (mean), with their *_error when
 // grid-checked, and the same of the nodal twin as properties_nodal_*.
 nlohmann::json properties_summary(const nlohmann::json& properties);
 

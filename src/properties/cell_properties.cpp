@@ -245,6 +245,23 @@ CellProperties compute_cell_properties(int n, const std::vector<double>& s,
     append_convergence_warning(p.warnings, p.pore_conduction.load_cases.data(), 3,
                                "pore conduction");
   }
+  if (o.flow) {
+    p.specific_surface = specific_surface(n, s);
+    try {
+      p.flow = compute_permeability(n, s, o.flow_solver,
+                                    [&](int axis, const StokesOperator& op, const double* x) {
+                                      if (axis == 2) p.wall_shear = wall_shear_statistics(op, x);
+                                    });
+    } catch (const std::invalid_argument& e) {  // no solid face: nothing holds the flow back
+      p.warnings.push_back(std::string("flow not computed: ") + e.what());
+    }
+    const Matrix3& k = p.flow.permeability;
+    const double k_mean = (k[0][0] + k[1][1] + k[2][2]) / 3.0;
+    if (k_mean > 0.0 && p.specific_surface > 0.0)
+      p.kozeny_carman_constant =
+          std::pow(p.porosity, 3) / (k_mean * p.specific_surface * p.specific_surface);
+    p.warnings.insert(p.warnings.end(), p.flow.warnings.begin(), p.flow.warnings.end());
+  }
   p.seconds = seconds_since(t0);
   return p;
 }

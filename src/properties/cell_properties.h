@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "properties/homogenize.h"
+#include "properties/stokes_flow.h"
 
 namespace cmcsurf::properties {
 
@@ -50,6 +51,8 @@ struct CellPropertiesOptions {
   SolverOptions solver;
   bool elasticity = true;
   bool conductivity = true;  // solid and pore space
+  bool flow = false;         // Stokes flow through the pore space (stokes_flow.h)
+  FlowOptions flow_solver;
 };
 
 struct CellProperties {
@@ -69,6 +72,13 @@ struct CellProperties {
          youngs_fraction_of_bound = 0.0, conductivity_solid_fraction_of_bound = 0.0,
          conductivity_pore_fraction_of_bound = 0.0;
   std::array<bool, 3> solid_percolates{}, pore_percolates{};
+  // With flow: permeability (voxel^2) and the rest of FlowResult, the wall shear stress of
+  // the flow along z (solver units, stokes_flow.h), the specific surface (voxel^-1) and the
+  // Kozeny-Carman constant c = porosity^3 / (k S^2), k the mean diagonal (0 without flow).
+  FlowResult flow;
+  WallShearStats wall_shear;
+  double specific_surface = 0.0;
+  double kozeny_carman_constant = 0.0;
   std::vector<std::string> warnings;  // non-percolating axes, load cases not converged
   double seconds = 0.0;
 };

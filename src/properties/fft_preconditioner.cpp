@@ -10,9 +10,6 @@
 
 namespace cmcsurf::properties {
 
-namespace {
-
-// FFTW's planner is not thread safe; threads are set up once per process.
 std::mutex& planner_mutex() {
   static std::mutex m;
   return m;
@@ -22,8 +19,6 @@ void init_fftw_threads() {
   static std::once_flag once;
   std::call_once(once, [] { fftw_init_threads(); });
 }
-
-}  // namespace
 
 struct FftPlans {
   fftw_plan forward = nullptr, backward = nullptr;

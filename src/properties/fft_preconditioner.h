@@ -17,9 +17,15 @@
 #include <complex>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace cmcsurf::properties {
+
+// FFTW's planner is not thread safe: every plan of the properties solvers is made under this
+// lock, after init_fftw_threads() (threads are set up once per process).
+std::mutex& planner_mutex();
+void init_fftw_threads();
 
 struct FftPlans;  // FFTW plans and the spectral buffer
 

@@ -49,6 +49,34 @@ assert abs(sheet["porosity"] - 0.7) < 1e-6 and sheet["thickness"] > 0
 assert abs(sheet["nodal_offset"]["porosity"] - 0.7) < 1e-6
 assert all(e >= 0 for e in sheet["youngs_modulus_error"])
 assert sheet["grid_check"]["coarse_grid"] == 12
+# Flow (in the default set): the cubic member's permeability isotropic and diagonal, with the
+# grid check's error and the solver converged.
+for p in (net, net["nodal"], sheet):
+    k = p["permeability"]
+    assert k[0][0] > 0 and p["solver"]["flow"]["converged"], p["solver"]["flow"]
+    for i in range(3):
+        assert abs(k[i][i] - k[0][0]) <= 2e-2 * k[0][0], k
+        assert abs(k[i][(i + 1) % 3]) <= 2e-2 * k[0][0], k
+    assert all(t > 1 for t in p["hydraulic_tortuosity"]) and p["kozeny_carman_constant"] > 0
+    assert "permeability_m2" not in p  # --units cell: no physical size
+assert all(e >= 0 for row in sheet["permeability_error"] for e in row)
+PY
+
+# Flow alone in physical units: k in m^2 (cell 2 mm), the wall shear stress in mPa and the
+# pressure drop for a superficial velocity of 1 mm/s (Darcy: dP/dz = mu U / k_zz).
+"$bin" properties --from "$work/g" --only flow --cell-size 2 --units mm --velocity 1 --quiet \
+  --out "$work/flow.json" || { echo "FAIL: flow"; fail=1; }
+python3 - "$work/flow.json" <<'PY' || fail=1
+import json, sys
+p = json.load(open(sys.argv[1]))
+assert "stiffness_voigt" not in p and "conductivity_solid" not in p
+k = p["permeability"][2][2]
+assert abs(p["permeability_m2"][2][2] - k * 4e-6) <= 1e-12 * k
+dp = p["pressure_drop_pa_per_m"]
+assert abs(dp - 0.692e-3 * 1e-3 / (k * 4e-6)) <= 1e-9 * dp
+tau = p["wall_shear_stress_mpa"]
+assert 0 < tau["p5"] <= tau["median"] <= tau["p95"] <= tau["max"], tau
+assert abs(sum(tau["histogram"]) - 1) < 1e-9
 PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
@@ -88,8 +116,9 @@ PY
 
 # Bad options: exit 2, the option named, nothing written.
 props() { check_usage "$1" "$2" properties --from "$work/g" "${@:3}"; }
-for bad in "--solid rod" "--phase 3" "--only flow" "--material abc" "--material 0" \
-           "--material 110,0.6" "--tolerance 1" "--cell-size -1"; do
+for bad in "--solid rod" "--phase 3" "--only pressure" "--material abc" "--material 0" \
+           "--material 110,0.6" "--tolerance 1" "--cell-size -1" "--viscosity 0" \
+           "--flow-rate 1" "--velocity -1"; do
   set -- $bad
   props "bad.json" "$1" "$@"
 done
@@ -97,6 +126,7 @@ props bad.json --porosity --porosity 0.5             # a network's porosity is i
 props bad.json --solid --solid sheet                 # neither --porosity nor --thickness
 props bad.json --porosity --solid sheet --porosity 1.5
 props bad.json --thickness --solid sheet --thickness 0.7
+props bad.json --units --velocity 1                  # no physical size: no m/s to scale by
 "$bin" properties --from "$work/missing" --out "$work/x.json" 2>/dev/null
 [ $? = 2 ] && [ ! -e "$work/x.json" ] || { echo "FAIL: a missing --from"; fail=1; }
 # A field file without --out: where to write is not guessed.
