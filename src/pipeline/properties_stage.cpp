@@ -337,15 +337,51 @@ nlohmann::json properties_summary(const nlohmann::json& properties) {
   return out;
 }
 
-nlohmann::json run_properties_keys(const Field& phi, const std::string& surface, bool nodal) {
+PropertiesRequest stage_properties_request(const PropertiesStage& stage,
+                                           const std::string& surface, int grid) {
   PropertiesRequest request;
-  request.compare_nodal = nodal;
+  const bool by_porosity = !std::isnan(stage.porosity),
+             by_thickness = !std::isnan(stage.thickness);
+  if (stage.solid != "network" && stage.solid != "sheet")
+    throw std::invalid_argument(fmt::format(
+        "--properties-solid: got '{}'; accepted: network, sheet", stage.solid));
+  if (stage.solid == "network" && (by_porosity || by_thickness))
+    throw std::invalid_argument(fmt::format(
+        "{}: only with --properties-solid sheet (a network's porosity is its member's)",
+        by_porosity ? "--properties-porosity" : "--properties-thickness"));
+  if (stage.solid == "sheet" && by_porosity == by_thickness)
+    throw std::invalid_argument("--properties-solid sheet: give exactly one of "
+                                "--properties-porosity P and --properties-thickness T");
+  if (by_porosity && !(stage.porosity > 0.0 && stage.porosity < 1.0))
+    throw std::invalid_argument(fmt::format(
+        "--properties-porosity: got {}; accepted: 0 < P < 1", stage.porosity));
+  if (by_thickness && !(stage.thickness > 0.0 && stage.thickness < 0.5))
+    throw std::invalid_argument(fmt::format(
+        "--properties-thickness: got {}; accepted: 0 < T < 0.5 (unit cells)", stage.thickness));
+  if (stage.grid_check && (grid % 2 != 0 || grid < 16))
+    throw std::invalid_argument(fmt::format(
+        "--properties-grid-check: the grid {} has no half (accepted: even N >= 16)", grid));
+  set_properties_solid(request, stage.solid, 1, stage.porosity, stage.thickness);
+  request.compare_nodal = stage.nodal;
+  request.grid_check = stage.grid_check;
   request.surface = surface;
-  const nlohmann::json properties = compute_properties(phi, request);
+  return request;
+}
+
+nlohmann::json run_properties_keys(const Field& phi, const std::string& surface,
+                                   const PropertiesStage& stage) {
+  const nlohmann::json properties =
+      compute_properties(phi, stage_properties_request(stage, surface, phi.n()));
   nlohmann::json keys = properties_summary(properties);
   keys["properties_seconds"] = properties["properties_seconds"];
   keys["properties"] = properties;
   return keys;
+}
+
+std::string properties_title(const std::string& surface, const nlohmann::json& properties) {
+  return fmt::format("{} {}, porosity {:.4f}", surface,
+                     properties.value("solid", std::string("network")),
+                     properties.value("porosity", NAN));
 }
 
 }  // namespace cmcsurf
