@@ -379,6 +379,13 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
           draw_line(img, x, ya, x, yb, c);
           draw_line(img, x - 4, ya, x + 4, ya, c);
           draw_line(img, x - 4, yb, x + 4, yb, c);
+          out.error_bars.push_back({{"surface", s.surface},
+                                    {"solid", s.solid},
+                                    {"part", s.part},
+                                    {"quantity", youngs ? "youngs_modulus" : "conductivity_solid"},
+                                    {"relative_density", q.rho},
+                                    {"value", q.value},
+                                    {"error", q.error}});
         }
         draw_disc(img, x, y, 3.5, c, !dashed);
       }

@@ -82,6 +82,13 @@ TEST(PropertiesPictures, ChartFitsExactPowerLawsPerFamily) {
       EXPECT_NEAR(f["coefficient"].get<double>(), cmc ? 0.5 : 1.0, 1e-12);
     }
   }
+  // A bar per member that carries an error (CMC E only here), at its value, of its size.
+  ASSERT_EQ(chart.error_bars.size(), 6u);
+  for (const auto& b : chart.error_bars) {
+    EXPECT_EQ(b["part"], "cmc");
+    EXPECT_EQ(b["quantity"], "youngs_modulus");
+    EXPECT_DOUBLE_EQ(b["error"].get<double>(), 0.01 * b["value"].get<double>());
+  }
   EXPECT_TRUE(properties_chart({nlohmann::json{{"surface", "G"}}}, "none").image.rgb.empty());
 }
 
