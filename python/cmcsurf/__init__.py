@@ -53,6 +53,17 @@ def _options(values: Dict[str, Any], names: Sequence[str]) -> Dict[str, Any]:
     return {name: values[name] for name in names}
 
 
+def _properties_stage(properties: bool, nodal: bool, solid: str, porosity: Optional[float],
+                      thickness: Optional[float], grid_check: bool) -> Optional[Dict[str, Any]]:
+    """The --properties stage's options (``run --properties-*``), or None when it is off: any
+    properties_* argument turns it on, as on the command line."""
+    if not (properties or nodal or grid_check or solid != "network" or porosity is not None
+            or thickness is not None):
+        return None
+    return {"solid": solid, "porosity": porosity, "thickness": thickness, "nodal": nodal,
+            "grid_check": grid_check}
+
+
 def surfaces() -> List[Dict[str, Any]]:
     """The built-in surfaces, as ``cmcsurf surfaces`` lists them.
 
@@ -95,6 +106,12 @@ def run(
     bisection_tol: float = 1e-6,
     bisection_max_it: int = 60,
     max_volume_corrections: int = 8,
+    properties: bool = False,
+    properties_nodal: bool = False,
+    properties_solid: str = "network",
+    properties_porosity: Optional[float] = None,
+    properties_thickness: Optional[float] = None,
+    properties_grid_check: bool = False,
     threads: int = 0,
     progress: Progress = None,
 ) -> Result:
@@ -108,13 +125,28 @@ def run(
     call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every time
     step.
 
+    ``properties=True`` is ``--properties``: the effective stiffness and conductivities of the
+    network of phase 1 (``properties_solid="sheet"`` with ``properties_porosity`` or
+    ``properties_thickness`` in unit cells: the wall around the surface), with
+    ``properties_nodal`` the nodal twin(s) beside it and ``properties_grid_check`` the
+    ``properties_*_error`` keys from N/2; the report gets the command line's keys
+    (``properties``, ``properties_*``, ``properties_seconds``; docs/properties.md). Any
+    ``properties_*`` argument turns the stage on.
+
     Returns a :class:`Result`: ``.phi`` (N, N, N) float64 (read-only), ``.report`` (the dict of
     report.json), ``.history`` (a dict of NumPy columns, history.csv's), ``.save(dir)``.
     Raises ValueError / TypeError on bad arguments, SolverDiverged if the run diverges,
     KeyboardInterrupt on Ctrl-C.
     """
     names = ("surface", "volume_fraction", "grid", "radius", "seed") + _SOLVER_OPTIONS
-    return _cmcsurf.run(_options(locals(), names), threads, progress)
+    stage = _properties_stage(properties, properties_nodal, properties_solid,
+                              properties_porosity, properties_thickness, properties_grid_check)
+    if stage is not None:  # refused before the solve, as the command line does
+        _cmcsurf.check_properties_stage(stage, surface, grid)
+    result = _cmcsurf.run(_options(locals(), names), threads, progress)
+    if stage is not None:
+        _cmcsurf.properties_stage([result], stage, threads)
+    return result
 
 
 def relax(
@@ -237,6 +269,12 @@ def sweep(
     bisection_tol: float = 1e-6,
     bisection_max_it: int = 60,
     max_volume_corrections: int = 8,
+    properties: bool = False,
+    properties_nodal: bool = False,
+    properties_solid: str = "network",
+    properties_porosity: Optional[float] = None,
+    properties_thickness: Optional[float] = None,
+    properties_grid_check: bool = False,
     threads: int = 0,
     progress: Progress = None,
 ) -> Tuple[List[Result], Dict[str, np.ndarray]]:
@@ -253,10 +291,18 @@ def sweep(
     ``.report`` is the member's report.json, with ``member`` and ``started_from``), and the
     table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
     arrays for strings and booleans).
+    ``properties``, ``properties_*``: ``run``'s, for every member (sweep.csv's
+    ``properties_*`` columns in the table; the chart is the command line's only).
     """
     names = ("grid",) + _SOLVER_OPTIONS
+    stage = _properties_stage(properties, properties_nodal, properties_solid,
+                              properties_porosity, properties_thickness, properties_grid_check)
+    if stage is not None:  # refused before the solves (the checks do not depend on the surface)
+        _cmcsurf.check_properties_stage(stage, "G", grid)
     results, columns = _cmcsurf.sweep(surfaces, volume_fractions, continuation,
                                       _options(locals(), names), threads, progress)
+    if stage is not None:
+        columns = _cmcsurf.properties_stage(results, stage, threads)
     table: Dict[str, np.ndarray] = {}
     for key in columns:
         values = [r.report.get(key) for r in results]
