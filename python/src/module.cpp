@@ -937,7 +937,8 @@ PropertiesStage stage_options(const py::dict& o) {
   if (given("porosity")) stage.porosity = real_option(o["porosity"], "properties_porosity");
   if (given("thickness")) stage.thickness = real_option(o["thickness"], "properties_thickness");
   if (given("nodal")) stage.nodal = bool_option(o["nodal"], "properties_nodal");
-  if (given("grid_check")) stage.grid_check = bool_option(o["grid_check"], "properties_grid_check");
+  if (given("grid_check"))
+    stage.grid_check = bool_option(o["grid_check"], "properties_grid_check");
   return stage;
 }
 
