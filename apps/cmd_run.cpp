@@ -47,7 +47,7 @@ struct RunCommand {
   PageOptions pages;        // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
-  PropertiesStage properties;     // --properties, --properties-*: stiffness and conductivity
+  PropertiesOptions properties;   // --properties, --properties-*: stiffness and conductivity
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -204,7 +204,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
                                                        "--checkpoint-every 0 and killed"
                                                      : "not a run folder"));
   finish_properties_options(cmd.properties, p.surface, p.grid);
-  if (cmd.properties.enabled && world->distributed())
+  if (cmd.properties.stage.enabled && world->distributed())
     throw UsageError(fmt::format("--properties: the properties solvers hold the whole grid, "
                                  "so they run on one process, not under mpirun ({} ranks): "
                                  "run `cmcsurf properties --from DIR` afterwards",
@@ -279,8 +279,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
     if (preview) extra["preview_seconds"] = preview->seconds;
     if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
     PropertiesPicture youngs;  // youngs_modulus.png, drawn before the writes
-    if (cmd.properties.enabled) {  // the stage's solid (docs/properties.md)
-      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties));
+    if (cmd.properties.stage.enabled) {  // the stage's solid (docs/properties.md)
+      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties.stage));
       if (!cmd.pages.no_preview) {
         youngs = youngs_modulus_picture(extra["properties"],
                                         properties_title(p.surface, extra["properties"]));

@@ -58,7 +58,7 @@ struct SweepCommand {
   PageOptions pages;  // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
-  PropertiesStage properties;     // --properties, --properties-*: each member's stiffness, ...
+  PropertiesOptions properties;   // --properties, --properties-*: each member's solid
 };
 
 // scripts/plot_families.py: --plot-script, $CMCSURF_PLOT_SCRIPT, beside the executable
@@ -371,7 +371,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   const GroupPlan gplan = plan_groups(cmd, sp, *world);
   refuse_if_too_large(sp.run, *world, gplan.group_ranks);  // before the folder is touched
   finish_properties_options(cmd.properties, sp.surfaces.front(), sp.run.grid);
-  if (cmd.properties.enabled && gplan.group_ranks > 1)
+  if (cmd.properties.stage.enabled && gplan.group_ranks > 1)
     throw UsageError(fmt::format(
         "--properties: the properties solvers hold a member's whole grid; with groups of {} "
         "processes they cannot run (use --groups {} for groups of one process, or `cmcsurf "
@@ -463,8 +463,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
-      if (cmd.properties.enabled) {  // the member's solid (docs/properties.md)
-        extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties));
+      if (cmd.properties.stage.enabled) {  // the member's solid (docs/properties.md)
+        extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties.stage));
         if (group_root && !cmd.pages.no_preview) {  // the group's rank 0 draws the pictures
           youngs = youngs_modulus_picture(extra["properties"],
                                           properties_title(m.surface, extra["properties"]));
@@ -682,7 +682,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     summary["complete"] = true;
     if (resuming) summary["resumed"] = {{"members_kept", kept}, {"members_resumed", resumed}};
     if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
-    if (cmd.properties.enabled && !cmd.no_plot) {  // the designer's chart and its Gibson-Ashby fits
+    // The designer's chart and its Gibson-Ashby fits.
+    if (cmd.properties.stage.enabled && !cmd.no_plot) {
       const PropertiesChart chart = properties_chart(
           reports, fmt::format("{}: effective stiffness and conductivity",
                                (dir.filename().empty() ? dir.parent_path() : dir)

@@ -53,13 +53,16 @@ def _options(values: Dict[str, Any], names: Sequence[str]) -> Dict[str, Any]:
     return {name: values[name] for name in names}
 
 
-def _properties_stage(properties: bool, nodal: bool, solid: str, porosity: Optional[float],
-                      thickness: Optional[float], grid_check: bool) -> Optional[Dict[str, Any]]:
+def _properties_stage(properties: bool, nodal: bool, solid: str,
+                      porosity: Union[None, float, Sequence[float]], thickness: Optional[float],
+                      grid_check: bool) -> Optional[Dict[str, Any]]:
     """The --properties stage's options (``run --properties-*``), or None when it is off: any
-    properties_* argument turns it on, as on the command line."""
+    properties_* argument turns it on, as on the command line. A porosity is a ramp of one."""
     if not (properties or nodal or grid_check or solid != "network" or porosity is not None
             or thickness is not None):
         return None
+    if porosity is not None and not isinstance(porosity, (list, tuple, np.ndarray)):
+        porosity = [porosity]
     return {"solid": solid, "porosity": porosity, "thickness": thickness, "nodal": nodal,
             "grid_check": grid_check}
 
@@ -109,7 +112,7 @@ def run(
     properties: bool = False,
     properties_nodal: bool = False,
     properties_solid: str = "network",
-    properties_porosity: Optional[float] = None,
+    properties_porosity: Union[None, float, Sequence[float]] = None,
     properties_thickness: Optional[float] = None,
     properties_grid_check: bool = False,
     threads: int = 0,
@@ -127,7 +130,8 @@ def run(
 
     ``properties=True`` is ``--properties``: the effective stiffness and conductivities of the
     network of phase 1 (``properties_solid="sheet"`` with ``properties_porosity`` or
-    ``properties_thickness`` in unit cells: the wall around the surface), with
+    ``properties_thickness`` in unit cells: the wall around the surface; a sequence of
+    porosities is a ramp, ``report["properties_ramp"]``), with
     ``properties_nodal`` the nodal twin(s) beside it and ``properties_grid_check`` the
     ``properties_*_error`` keys from N/2; the report gets the command line's keys
     (``properties``, ``properties_*``, ``properties_seconds``; docs/properties.md). Any
@@ -272,7 +276,7 @@ def sweep(
     properties: bool = False,
     properties_nodal: bool = False,
     properties_solid: str = "network",
-    properties_porosity: Optional[float] = None,
+    properties_porosity: Union[None, float, Sequence[float]] = None,
     properties_thickness: Optional[float] = None,
     properties_grid_check: bool = False,
     threads: int = 0,

@@ -934,7 +934,9 @@ PropertiesStage stage_options(const py::dict& o) {
   stage.enabled = true;
   auto given = [&](const char* key) { return o.contains(key) && !o[key].is_none(); };
   if (given("solid")) stage.solid = string_option(o["solid"], "properties_solid");
-  if (given("porosity")) stage.porosity = real_option(o["porosity"], "properties_porosity");
+  if (given("porosity"))  // P or a sequence (a ramp)
+    for (py::handle p : py::list(o["porosity"]))
+      stage.porosities.push_back(real_option(p, "properties_porosity"));
   if (given("thickness")) stage.thickness = real_option(o["thickness"], "properties_thickness");
   if (given("nodal")) stage.nodal = bool_option(o["nodal"], "properties_nodal");
   if (given("grid_check"))

@@ -106,6 +106,18 @@ def test_sweep_properties_sheet_columns():
     assert 0.15 < rho[0] < 0.45 and 0.15 < rho[1] < 0.45 and rho[0] != rho[1], rho
 
 
+def test_run_properties_sheet_ramp():
+    r = cmcsurf.run("G", 0.5, 16, epsilon=0.04, threads=1, properties_solid="sheet",
+                    properties_porosity=(0.6, 0.8))
+    ramp = r.report["properties_ramp"]
+    assert [round(e["properties_porosity"], 6) for e in ramp] == [0.6, 0.8]
+    assert ramp[0]["properties_youngs_modulus"] == r.report["properties_youngs_modulus"]
+    one = cmcsurf.run("G", 0.5, 16, epsilon=0.04, threads=1, properties_solid="sheet",
+                      properties_porosity=0.8)
+    assert "properties_ramp" not in one.report
+    assert one.report["properties_youngs_modulus"] == ramp[1]["properties_youngs_modulus"]
+
+
 def test_properties_stage_bad_arguments():
     # refused before the solve, naming the command line's option
     with pytest.raises(ValueError, match="--properties-solid"):

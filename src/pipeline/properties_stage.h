@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -64,20 +65,27 @@ nlohmann::json properties_summary(const nlohmann::json& properties);
 struct PropertiesStage {
   bool enabled = false;           // --properties (any other --properties-* implies it)
   std::string solid = "network";  // network (phase 1) or sheet
-  double porosity = NAN;          // sheet: one of porosity and thickness (unit cells); NaN: none
+  // sheet: one of porosities and thickness (unit cells; NaN: none). Several porosities are a
+  // ramp: the sheet at each, "properties" the first's, "properties_ramp" all of them.
+  std::vector<double> porosities;
   double thickness = NAN;
   bool nodal = false;       // the nodal twin(s) at the same porosity
   bool grid_check = false;  // N and N/2: *_error, the chart's error bars
 };
 
-// The request of a stage for a member of `surface` on `grid`^3, or std::invalid_argument naming
-// the stage's option (--properties-solid, ...) and what it accepts.
+// --properties-porosity's text: P or a ramp P1,P2,... (at most 16), or std::invalid_argument
+// naming the option. "" is none.
+std::vector<double> parse_properties_porosities(const std::string& text);
+
+// The request of a stage (at its first porosity) for a member of `surface` on `grid`^3, or
+// std::invalid_argument naming the stage's option (--properties-solid, ...) and what it accepts.
 PropertiesRequest stage_properties_request(const PropertiesStage& stage,
                                            const std::string& surface, int grid);
 
 // The report.json keys of the --properties stage of `run` and `sweep`: the stage's solid of a
 // run's field (and its nodal twins with `nodal`) as "properties", its summary scalars and
-// "properties_seconds".
+// "properties_seconds"; with a ramp of porosities also "properties_ramp", per porosity the
+// summary scalars and "properties_porosity" (what the designer's chart draws for the member).
 nlohmann::json run_properties_keys(const Field& phi, const std::string& surface,
                                    const PropertiesStage& stage);
 

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -37,19 +38,19 @@ TEST(PropertiesStage, RefusesNamingTheStagesOptions) {
   s.solid = "rod";
   EXPECT_EQ(refusal(s).rfind("--properties-solid: got 'rod'", 0), 0u) << refusal(s);
   s.solid = "network";
-  s.porosity = 0.7;  // a network's porosity is its member's
+  s.porosities = {0.7};  // a network's porosity is its member's
   EXPECT_EQ(refusal(s).rfind("--properties-porosity:", 0), 0u) << refusal(s);
   s.solid = "sheet";
   EXPECT_EQ(refusal(s), "");
   s.thickness = 0.1;  // both
   EXPECT_EQ(refusal(s).rfind("--properties-solid sheet:", 0), 0u) << refusal(s);
-  s.porosity = NAN;
+  s.porosities.clear();
   EXPECT_EQ(refusal(s), "");
   s.thickness = 0.5;
   EXPECT_NE(refusal(s).find("0 < T < 0.5"), std::string::npos) << refusal(s);
   s.thickness = NAN;
-  s.porosity = 1.0;
-  EXPECT_NE(refusal(s).find("0 < P < 1"), std::string::npos) << refusal(s);
+  s.porosities = {0.5, 1.0};  // each of a ramp
+  EXPECT_NE(refusal(s).find("got 1; accepted: 0 < P < 1"), std::string::npos) << refusal(s);
   s = PropertiesStage{};
   s.grid_check = true;
   EXPECT_EQ(refusal(s, 16), "");
@@ -59,6 +60,41 @@ TEST(PropertiesStage, RefusesNamingTheStagesOptions) {
   const PropertiesRequest r = stage_properties_request(s, "G", 16);
   EXPECT_TRUE(r.grid_check && r.elastic && r.conductivity && !r.compare_nodal);
   EXPECT_EQ(r.surface, "G");
+}
+
+TEST(PropertiesStage, ParsesPorosityRamps) {
+  EXPECT_TRUE(parse_properties_porosities("").empty());
+  EXPECT_EQ(parse_properties_porosities("0.7"), std::vector<double>{0.7});
+  EXPECT_EQ(parse_properties_porosities("0.5,0.7,0.9"), (std::vector<double>{0.5, 0.7, 0.9}));
+  for (const char* bad : {"0.7,", ",0.7", "0.7x", "a", "0.5,,0.7"})
+    EXPECT_THROW(parse_properties_porosities(bad), std::invalid_argument) << bad;
+  std::string seventeen = "0.5";
+  for (int i = 1; i < 17; ++i) seventeen += ",0.5";
+  EXPECT_EQ(parse_properties_porosities(seventeen.substr(4)).size(), 16u);
+  EXPECT_THROW(parse_properties_porosities(seventeen), std::invalid_argument);
+}
+
+// A ramp of two porosities: "properties" is the first sheet's, "properties_ramp" holds both, each
+// at its porosity, and the stage's time is the sum of the two.
+TEST(PropertiesStage, SheetRamp) {
+  PropertiesStage s;
+  s.solid = "sheet";
+  s.porosities = {0.6, 0.8};
+  const nlohmann::json keys = run_properties_keys(gyroid(16), "G", s);
+  ASSERT_EQ(keys.at("properties_ramp").size(), 2u);
+  EXPECT_NEAR(keys.at("properties").at("porosity").get<double>(), 0.6, 1e-6);
+  const nlohmann::json& ramp = keys.at("properties_ramp");
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(ramp[i].at("properties_porosity").get<double>(), s.porosities[i], 1e-6);
+    EXPECT_NEAR(ramp[i].at("properties_relative_density").get<double>(), 1 - s.porosities[i],
+                1e-6);
+  }
+  EXPECT_EQ(ramp[0].at("properties_youngs_modulus"), keys.at("properties_youngs_modulus"));
+  // the thinner wall is the softer one
+  EXPECT_LT(ramp[1].at("properties_youngs_modulus").get<double>(),
+            0.5 * ramp[0].at("properties_youngs_modulus").get<double>());
+  EXPECT_GT(keys.at("properties_seconds").get<double>(),
+            keys.at("properties").at("properties_seconds").get<double>());
 }
 
 TEST(PropertiesStage, SheetWithGridCheck) {
