@@ -2,8 +2,8 @@
 # The --properties stage's grid check and sheets (docs/properties.md): a two-member 24^3 sweep
 # with --properties-grid-check draws an error bar per member on the designer's chart, each equal
 # to the member's properties_*_error in report.json and sweep.csv; run --properties-solid sheet
-# gives the wall asked for (thickness or porosity); bad stage options exit 2 naming the option
-# and write nothing.
+# gives the wall asked for (thickness or porosity); a ramp of porosities is the chart's sheet
+# curve, kept by a resume; bad stage options exit 2 naming the option and write nothing.
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
@@ -20,6 +20,8 @@ export OMP_NUM_THREADS=1
 "$bin" sweep --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --quiet --no-preview \
   --no-report --properties-solid sheet --properties-porosity 0.6,0.75,0.9 --out "$work/r" ||
   { echo "FAIL: sweep --properties-porosity 0.6,0.75,0.9"; fail=1; }
+# A resume of the finished sweep restores the stage from sweep.json: the chart is redrawn.
+"$bin" sweep --resume "$work/r" --quiet || { echo "FAIL: sweep --resume of the ramp"; fail=1; }
 python3 - "$work/s" "$work/t" "$work/p" "$work/r" <<'PY' || fail=1
 import csv, json, math, os, sys
 s, t, p, ramp_dir = sys.argv[1:5]
