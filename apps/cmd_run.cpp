@@ -28,6 +28,7 @@
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
+#include "properties_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
 
@@ -46,8 +47,7 @@ struct RunCommand {
   PageOptions pages;        // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
-  bool properties = false;        // --properties: the network's stiffness and conductivity
-  bool properties_nodal = false;  // --properties-nodal: and the nodal twin's
+  PropertiesOptions properties;   // --properties, --properties-*: stiffness and conductivity
 };
 
 // Refuses, on every process alike and before any communication, what a split grid cannot do.
@@ -95,14 +95,14 @@ void validate(RunCommand& cmd) {
 // another order on another count), kept in its checkpoints: `run --resume DIR` alone writes
 // the folder the uninterrupted run would have written.
 nlohmann::json output_options(const RunCommand& cmd) {
-  return {{"threads", cmd.threads},
-          {"float32", cmd.float32},
-          {"mesh", cmd.mesh_format},
-          {"no_preview", cmd.pages.no_preview},
-          {"no_report", cmd.pages.no_report},
-          {"properties", cmd.properties},
-          {"properties_nodal", cmd.properties_nodal},
-          {"checkpoint_every", cmd.checkpoints.every}};
+  nlohmann::json outputs = {{"threads", cmd.threads},
+                             {"float32", cmd.float32},
+                             {"mesh", cmd.mesh_format},
+                             {"no_preview", cmd.pages.no_preview},
+                             {"no_report", cmd.pages.no_report},
+                             {"checkpoint_every", cmd.checkpoints.every}};
+  add_properties_outputs(outputs, cmd.properties);
+  return outputs;
 }
 
 // --resume: the output options the run started with, unless given again.
@@ -116,8 +116,7 @@ void restore_output_options(RunCommand& cmd, const CLI::App& app, const nlohmann
   r.restore("--mesh", "mesh", cmd.mesh_format);
   r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
   r.restore("--no-report", "no_report", cmd.pages.no_report);
-  r.restore("--properties", "properties", cmd.properties);
-  r.restore("--properties-nodal", "properties_nodal", cmd.properties_nodal);
+  restore_properties_outputs(r, cmd.properties);
   r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
   check_mesh_format(cmd.mesh_format);
   if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
@@ -204,8 +203,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
         std::filesystem::exists(dir / "report.json") ? "the run completed, or was started with "
                                                        "--checkpoint-every 0 and killed"
                                                      : "not a run folder"));
-  if (cmd.properties_nodal) cmd.properties = true;
-  if (cmd.properties && world->distributed())
+  finish_properties_options(cmd.properties, p.surface, p.grid);
+  if (cmd.properties.stage.enabled && world->distributed())
     throw UsageError(fmt::format("--properties: the properties solvers hold the whole grid, "
                                  "so they run on one process, not under mpirun ({} ranks): "
                                  "run `cmcsurf properties --from DIR` afterwards",
@@ -224,6 +223,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
     LoadedCheckpoint loaded = load_checkpoint(dir, RunEntry::kCmc, world);
     p = resumed_params(cmd.strings, p, loaded.params, dir / kCheckpointFileName);
     restore_output_options(cmd, app, loaded.outputs, dir / kCheckpointFileName);
+    finish_properties_options(cmd.properties, p.surface, p.grid);  // the resumed grid's
     resume = std::move(loaded.checkpoint);
     if (world->distributed()) check_decomposable(p, *world);
     refuse_if_too_large(p, *world);
@@ -279,12 +279,11 @@ int run(RunCommand& cmd, const CLI::App& app) {
     if (preview) extra["preview_seconds"] = preview->seconds;
     if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
     PropertiesPicture youngs;  // youngs_modulus.png, drawn before the writes
-    if (cmd.properties) {  // the network of phase 1 (docs/properties.md)
-      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties_nodal));
+    if (cmd.properties.stage.enabled) {  // the stage's solid (docs/properties.md)
+      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties.stage));
       if (!cmd.pages.no_preview) {
-        youngs = youngs_modulus_picture(
-            extra["properties"], fmt::format("{} network, porosity {:.4f}", p.surface,
-                                             extra["properties"]["porosity"].get<double>()));
+        youngs = youngs_modulus_picture(extra["properties"],
+                                        properties_title(p.surface, extra["properties"]));
         if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
       }
     }
@@ -353,12 +352,7 @@ CommandFn add_run_command(CLI::App& root) {
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);
   add_force_option(*app, cmd->force);
-  app->add_flag("--properties", cmd->properties,
-                "Also the effective stiffness and conductivities of the network solid (phase 1) "
-                "into report.json (properties, properties_*; docs/properties.md)");
-  app->add_flag("--properties-nodal", cmd->properties_nodal,
-                "--properties with the nodal network at the same porosity beside it "
-                "(properties.nodal, properties_nodal_*)");
+  add_properties_options(*app, cmd->properties, "the run's");
   return {app, [cmd, app]() -> int { return run(*cmd, *app); }};
 }
 

@@ -31,6 +31,7 @@
 #include "pipeline/sweep.h"
 #include "pipeline/sweep_groups.h"
 #include "page_options.h"
+#include "properties_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
 
@@ -57,8 +58,7 @@ struct SweepCommand {
   PageOptions pages;  // --no-preview, --no-report
   CheckpointOptions checkpoints;  // --checkpoint-every, --resume
   bool force = false;             // --force: a non-empty folder cmcsurf did not write
-  bool properties = false;        // --properties: each member's network stiffness, conductivity
-  bool properties_nodal = false;  // --properties-nodal: and its nodal twin's
+  PropertiesOptions properties;   // --properties, --properties-*: each member's solid
 };
 
 // scripts/plot_families.py: --plot-script, $CMCSURF_PLOT_SCRIPT, beside the executable
@@ -142,14 +142,14 @@ void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& qu
 // Never which program draws the figures (--python, --plot-script): a data file that someone
 // else may have written restores options, it never chooses an executable.
 nlohmann::json output_options(const SweepCommand& cmd) {
-  return {{"threads", cmd.threads},
-          {"float32", cmd.float32},
-          {"no_preview", cmd.pages.no_preview},
-          {"no_report", cmd.pages.no_report},
-          {"no_plot", cmd.no_plot},
-          {"properties", cmd.properties},
-          {"properties_nodal", cmd.properties_nodal},
-          {"checkpoint_every", cmd.checkpoints.every}};
+  nlohmann::json outputs = {{"threads", cmd.threads},
+                             {"float32", cmd.float32},
+                             {"no_preview", cmd.pages.no_preview},
+                             {"no_report", cmd.pages.no_report},
+                             {"no_plot", cmd.no_plot},
+                             {"checkpoint_every", cmd.checkpoints.every}};
+  add_properties_outputs(outputs, cmd.properties);
+  return outputs;
 }
 
 // sweep.json: what the sweep was (per-member parameters are in each report.json).
@@ -206,8 +206,7 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
     r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
     r.restore("--no-report", "no_report", cmd.pages.no_report);
     r.restore("--no-plot", "no_plot", cmd.no_plot);
-    r.restore("--properties", "properties", cmd.properties);
-    r.restore("--properties-nodal", "properties_nodal", cmd.properties_nodal);
+    restore_properties_outputs(r, cmd.properties);
     r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
     if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
       throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
@@ -371,8 +370,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   const auto world = Decomposition::world();
   const GroupPlan gplan = plan_groups(cmd, sp, *world);
   refuse_if_too_large(sp.run, *world, gplan.group_ranks);  // before the folder is touched
-  if (cmd.properties_nodal) cmd.properties = true;
-  if (cmd.properties && gplan.group_ranks > 1)
+  finish_properties_options(cmd.properties, sp.surfaces.front(), sp.run.grid);
+  if (cmd.properties.stage.enabled && gplan.group_ranks > 1)
     throw UsageError(fmt::format(
         "--properties: the properties solvers hold a member's whole grid; with groups of {} "
         "processes they cannot run (use --groups {} for groups of one process, or `cmcsurf "
@@ -464,12 +463,11 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
-      if (cmd.properties) {  // the member's network of phase 1 (docs/properties.md)
-        extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties_nodal));
+      if (cmd.properties.stage.enabled) {  // the member's solid (docs/properties.md)
+        extra.update(run_properties_keys(r.phi, m.params.surface, cmd.properties.stage));
         if (group_root && !cmd.pages.no_preview) {  // the group's rank 0 draws the pictures
-          youngs = youngs_modulus_picture(
-              extra["properties"], fmt::format("{} network, porosity {:.4f}", m.surface,
-                                               extra["properties"]["porosity"].get<double>()));
+          youngs = youngs_modulus_picture(extra["properties"],
+                                          properties_title(m.surface, extra["properties"]));
           if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
         }
       }
@@ -684,16 +682,18 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     summary["complete"] = true;
     if (resuming) summary["resumed"] = {{"members_kept", kept}, {"members_resumed", resumed}};
     if (!gallery.empty()) summary["gallery_seconds"] = write_gallery(dir, gallery);
-    if (cmd.properties && !cmd.no_plot) {  // the designer's chart and its Gibson-Ashby fits
+    // The designer's chart and its Gibson-Ashby fits.
+    if (cmd.properties.stage.enabled && !cmd.no_plot) {
       const PropertiesChart chart = properties_chart(
-          reports, fmt::format("{}: effective stiffness and conductivity of the networks",
+          reports, fmt::format("{}: effective stiffness and conductivity",
                                (dir.filename().empty() ? dir.parent_path() : dir)
                                    .filename()
                                    .string()));
       if (!chart.image.rgb.empty()) {
         write_png(dir / kPropertiesChartName, chart.image);
         summary["properties_chart"] = {
-            {"file", kPropertiesChartName}, {"seconds", chart.seconds}, {"fits", chart.fits}};
+            {"file", kPropertiesChartName}, {"seconds", chart.seconds}, {"fits", chart.fits},
+            {"error_bars", chart.error_bars}};
       }
     }
     write_json_atomic(dir / "sweep.json", summary);
@@ -746,11 +746,7 @@ CommandFn add_sweep_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--plot-script", cmd->plot_script, "Path of scripts/plot_families.py");
   add_force_option(*app, cmd->force);
-  app->add_flag("--properties", cmd->properties,
-                "Also each member's network (phase 1) stiffness and conductivities: report.json "
-                "and sweep.csv's properties_* columns (docs/properties.md)");
-  app->add_flag("--properties-nodal", cmd->properties_nodal,
-                "--properties with each member's nodal network beside it (properties_nodal_*)");
+  add_properties_options(*app, cmd->properties, "each member's");
   app->add_flag("--quiet", cmd->quiet, "No progress output");
   add_page_options(*app, cmd->pages);
   add_checkpoint_options(*app, cmd->checkpoints, true);

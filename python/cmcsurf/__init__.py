@@ -113,6 +113,36 @@ def _run_options(values: Dict[str, Any], scopes: Sequence[str]) -> Dict[str, Any
 _SOLVER = ("solver",)
 _THREADS = _P("threads", _P.KEYWORD_ONLY, default=0, annotation=int)
 _PROGRESS = _P("progress", _P.KEYWORD_ONLY, default=None, annotation=Progress)
+# The --properties stage of run and sweep (``run --properties-*``), handled beside the run options
+_PROPERTIES = [
+    _P("properties", _P.KEYWORD_ONLY, default=False, annotation=bool),
+    _P("properties_nodal", _P.KEYWORD_ONLY, default=False, annotation=bool),
+    _P("properties_solid", _P.KEYWORD_ONLY, default="network", annotation=str),
+    _P("properties_porosity", _P.KEYWORD_ONLY, default=None,
+       annotation=Union[None, float, Sequence[float]]),
+    _P("properties_thickness", _P.KEYWORD_ONLY, default=None, annotation=Optional[float]),
+    _P("properties_grid_check", _P.KEYWORD_ONLY, default=False, annotation=bool),
+]
+
+
+def _properties_stage(properties: bool, nodal: bool, solid: str,
+                      porosity: Union[None, float, Sequence[float]], thickness: Optional[float],
+                      grid_check: bool) -> Optional[Dict[str, Any]]:
+    """The --properties stage's options (``run --properties-*``), or None when it is off: any
+    properties_* argument turns it on, as on the command line. A porosity is a ramp of one."""
+    if not (properties or nodal or grid_check or solid != "network" or porosity is not None
+            or thickness is not None):
+        return None
+    if porosity is not None and not isinstance(porosity, (list, tuple, np.ndarray)):
+        porosity = [porosity]
+    return {"solid": solid, "porosity": porosity, "thickness": thickness, "nodal": nodal,
+            "grid_check": grid_check}
+
+
+def _stage_of(a: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+    return _properties_stage(a["properties"], a["properties_nodal"], a["properties_solid"],
+                             a["properties_porosity"], a["properties_thickness"],
+                             a["properties_grid_check"])
 
 
 def surfaces() -> List[Dict[str, Any]]:
@@ -128,7 +158,7 @@ def surfaces() -> List[Dict[str, Any]]:
 
 @_signature([_parameter(_option(k), _P.POSITIONAL_OR_KEYWORD)
             for k in ("surface", "volume_fraction", "grid", "epsilon")],
-            ("surface", "initial", "grid", "solver"), [_THREADS, _PROGRESS], Result)
+            ("surface", "initial", "grid", "solver"), [*_PROPERTIES, _THREADS, _PROGRESS], Result)
 def run(arguments: Dict[str, Any]) -> Result:
     """One CMC surface, exactly as ``cmcsurf run`` computes it (same defaults, same report).
 
@@ -139,6 +169,15 @@ def run(arguments: Dict[str, Any]) -> Result:
     where they are None). ``threads``: OpenMP threads for this call (0: OMP_NUM_THREADS or all
     cores). ``progress``: called with a dict after every time step.
 
+    ``properties=True`` is ``--properties``: the effective stiffness and conductivities of the
+    network of phase 1 (``properties_solid="sheet"`` with ``properties_porosity`` or
+    ``properties_thickness`` in unit cells: the wall around the surface; a sequence of
+    porosities is a ramp, ``report["properties_ramp"]``), with
+    ``properties_nodal`` the nodal twin(s) beside it and ``properties_grid_check`` the
+    ``properties_*_error`` keys from N/2; the report gets the command line's keys
+    (``properties``, ``properties_*``, ``properties_seconds``; docs/properties.md). Any
+    ``properties_*`` argument turns the stage on.
+
     Returns a :class:`Result`: ``.phi`` (N, N, N) float64 (read-only), ``.report`` (the dict of
     report.json), ``.history`` (a dict of NumPy columns, history.csv's), ``.save(dir)``.
     Raises ValueError / TypeError on bad arguments, SolverDiverged if the run diverges,
@@ -146,7 +185,13 @@ def run(arguments: Dict[str, Any]) -> Result:
     """
     a = arguments
     options = _run_options(a, ("surface", "initial", "grid", "solver"))
-    return _cmcsurf.run(options, a["threads"], a["progress"])
+    stage = _stage_of(a)
+    if stage is not None:  # refused before the solve, as the command line does
+        _cmcsurf.check_properties_stage(stage, a["surface"], a["grid"])
+    result = _cmcsurf.run(options, a["threads"], a["progress"])
+    if stage is not None:
+        _cmcsurf.properties_stage([result], stage, a["threads"])
+    return result
 
 
 @_signature([_P("phi", _P.POSITIONAL_OR_KEYWORD, annotation=Any),
@@ -225,7 +270,7 @@ def measure(
              _parameter(_option("grid"), _P.POSITIONAL_OR_KEYWORD),
              _parameter(_option("epsilon"), _P.POSITIONAL_OR_KEYWORD),
              _P("continuation", _P.KEYWORD_ONLY, default=False, annotation=bool)],
-            ("grid", "solver"), [_THREADS, _PROGRESS],
+            ("grid", "solver"), [*_PROPERTIES, _THREADS, _PROGRESS],
             Tuple[List[Result], Dict[str, np.ndarray]])
 def sweep(arguments: Dict[str, Any]) -> Tuple[List[Result], Dict[str, np.ndarray]]:
     """Families of CMC surfaces over volume fraction (Fig. 11), as ``cmcsurf sweep``.
@@ -241,11 +286,18 @@ def sweep(arguments: Dict[str, Any]) -> Tuple[List[Result], Dict[str, np.ndarray
     ``.report`` is the member's report.json, with ``member`` and ``started_from``), and the
     table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
     arrays for strings and booleans).
+    ``properties``, ``properties_*``: ``run``'s, for every member (sweep.csv's
+    ``properties_*`` columns in the table; the chart is the command line's only).
     """
     a = arguments
+    stage = _stage_of(a)
+    if stage is not None:  # refused before the solves (the checks do not depend on the surface)
+        _cmcsurf.check_properties_stage(stage, "G", a["grid"])
     results, columns = _cmcsurf.sweep(a["surfaces"], a["volume_fractions"], a["continuation"],
                                       _run_options(a, ("grid", "solver")), a["threads"],
                                       a["progress"])
+    if stage is not None:
+        columns = _cmcsurf.properties_stage(results, stage, a["threads"])
     table: Dict[str, np.ndarray] = {}
     for key in columns:
         values = [r.report.get(key) for r in results]

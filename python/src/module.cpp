@@ -948,6 +948,63 @@ py::object properties(py::handle source, const py::dict& o, py::handle threads) 
   return to_python(j);
 }
 
+// The --properties stage of run() and sweep() (properties=True, properties_solid=, ...; the
+// options of `cmcsurf run --properties-*` without the prefix: solid, porosity, thickness,
+// nodal, grid_check). check_properties_stage refuses bad ones before a solve;
+// properties_stage adds the stage's keys to each Result's report (and to what save() writes)
+// and returns sweep.csv's columns of the updated reports.
+PropertiesStage stage_options(const py::dict& o) {
+  PropertiesStage stage;
+  stage.enabled = true;
+  auto given = [&](const char* key) { return o.contains(key) && !o[key].is_none(); };
+  if (given("solid")) stage.solid = string_option(o["solid"], "properties_solid");
+  if (given("porosity"))  // P or a sequence (a ramp)
+    for (py::handle p : py::list(o["porosity"]))
+      stage.porosities.push_back(real_option(p, "properties_porosity"));
+  if (given("thickness")) stage.thickness = real_option(o["thickness"], "properties_thickness");
+  if (given("nodal")) stage.nodal = bool_option(o["nodal"], "properties_nodal");
+  if (given("grid_check"))
+    stage.grid_check = bool_option(o["grid_check"], "properties_grid_check");
+  return stage;
+}
+
+void check_properties_stage(const py::dict& o, py::handle surface, py::handle grid) {
+  std::string shown;
+  try {
+    stage_properties_request(stage_options(o), string_option(surface, "surface"),
+                             int(integer_option(grid, "grid", &shown)));
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+py::list properties_stage(const py::list& results, const py::dict& o, py::handle threads) {
+  const PropertiesStage stage = stage_options(o);
+  std::vector<Result*> members;
+  for (py::handle h : results) members.push_back(&py::cast<Result&>(h));
+  ThreadScope scope(threads);
+  std::vector<nlohmann::json> reports;
+  {
+    py::gil_scoped_release release;
+    for (Result* r : members) {
+      const nlohmann::json keys = run_properties_keys(r->result.phi, r->params.surface, stage);
+      r->extra.update(keys);
+      r->report.update(keys);
+      reports.push_back(r->report);
+    }
+  }
+  for (Result* r : members) r->report_cache = py::object();
+  const std::string csv = sweep_csv(reports);
+  const std::string header = csv.substr(0, csv.find('\n'));
+  py::list columns;
+  for (std::size_t pos = 0; pos <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', pos), header.size());
+    columns.append(header.substr(pos, comma - pos));
+    pos = comma + 1;
+  }
+  return columns;
+}
+
 // cmcsurf scattering of a Result or an (N, N, N) field (science/scattering.h): the dictionary
 // of scattering.json, with the columns of reflections.csv ("reflections") and saxs.csv
 // ("saxs") as NumPy arrays.
@@ -1138,6 +1195,10 @@ PYBIND11_MODULE(_cmcsurf, m) {
         py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("mesh", &mesh, py::arg("source"), py::arg("options"), py::arg("threads"));
   m.def("properties", &properties, py::arg("source"), py::arg("options"), py::arg("threads"));
+  m.def("check_properties_stage", &check_properties_stage, py::arg("options"),
+        py::arg("surface"), py::arg("grid"));
+  m.def("properties_stage", &properties_stage, py::arg("results"), py::arg("options"),
+        py::arg("threads"));
   m.def("scattering", &scattering, py::arg("source"), py::arg("options"), py::arg("threads"));
 
   // The methods' docstrings begin with their own signature, in the package's types.

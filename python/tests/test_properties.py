@@ -86,3 +86,66 @@ def test_scattering_equals_the_cli_file(member, tmp_path):
         cmcsurf.scattering(member, lattice=-1)
     with pytest.raises(ValueError, match="density"):
         cmcsurf.scattering(member, "fog")
+
+
+def _strip(d, volatile=("seconds", "properties_seconds", "solver", "youngs_picture_seconds")):
+    if isinstance(d, dict):
+        return {k: _strip(v, volatile) for k, v in d.items() if k not in volatile}
+    return d
+
+
+def test_run_properties_equal_the_cli_report(tmp_path):
+    got = cmcsurf.run("G", 0.3, 24, epsilon=0.03, threads=1, properties_grid_check=True)
+    run_cli("run", "--surface", "G", "--volume-fraction", "0.3", "--grid", "24", "--epsilon",
+            "0.03", "--threads", "1", "--quiet", "--no-preview", "--no-report",
+            "--properties-grid-check", "--out", str(tmp_path / "g"))
+    cli = json.loads((tmp_path / "g" / "report.json").read_text())
+    keys = {k for k in cli if k.startswith("properties")}
+    assert keys >= {"properties", "properties_youngs_modulus", "properties_youngs_modulus_error",
+                    "properties_conductivity_solid_error", "properties_seconds"}
+    assert keys == {k for k in got.report if k.startswith("properties")}
+    assert _strip({k: got.report[k] for k in keys}) == _strip({k: cli[k] for k in keys})
+    # save() writes the same keys into the folder's report.json
+    got.save(tmp_path / "py", preview=False, report=False)
+    saved = json.loads((tmp_path / "py" / "report.json").read_text())
+    assert saved["properties_youngs_modulus"] == got.report["properties_youngs_modulus"]
+
+
+def test_sweep_properties_sheet_columns():
+    results, table = cmcsurf.sweep("G", [0.4, 0.5], 16, epsilon=0.04, threads=1,
+                                   properties_solid="sheet", properties_thickness=0.1)
+    assert len(results) == 2
+    for i, r in enumerate(results):
+        p = r.report["properties"]
+        assert p["solid"] == "sheet" and abs(p["thickness"] - 0.1) < 1e-12
+        assert table["properties_youngs_modulus"][i] == r.report["properties_youngs_modulus"]
+        assert "properties_youngs_modulus_error" not in r.report  # no grid check asked
+    # a thinner wall around a surface of other area: the members differ in density
+    rho = table["properties_relative_density"]
+    assert 0.15 < rho[0] < 0.45 and 0.15 < rho[1] < 0.45 and rho[0] != rho[1], rho
+
+
+def test_run_properties_sheet_ramp():
+    r = cmcsurf.run("G", 0.5, 16, epsilon=0.04, threads=1, properties_solid="sheet",
+                    properties_porosity=(0.6, 0.8))
+    ramp = r.report["properties_ramp"]
+    assert [round(e["properties_porosity"], 6) for e in ramp] == [0.6, 0.8]
+    assert ramp[0]["properties_youngs_modulus"] == r.report["properties_youngs_modulus"]
+    one = cmcsurf.run("G", 0.5, 16, epsilon=0.04, threads=1, properties_solid="sheet",
+                      properties_porosity=0.8)
+    assert "properties_ramp" not in one.report
+    assert one.report["properties_youngs_modulus"] == ramp[1]["properties_youngs_modulus"]
+
+
+def test_properties_stage_bad_arguments():
+    # refused before the solve, naming the command line's option
+    with pytest.raises(ValueError, match="--properties-solid"):
+        cmcsurf.run("G", 0.3, 16, properties_solid="rod")
+    with pytest.raises(ValueError, match="--properties-porosity"):
+        cmcsurf.run("G", 0.3, 16, properties_porosity=0.7)  # a network's is its member's
+    with pytest.raises(ValueError, match="exactly one"):
+        cmcsurf.sweep("G", [0.3], 16, properties_solid="sheet")
+    with pytest.raises(ValueError, match="--properties-grid-check"):
+        cmcsurf.run("G", 0.3, 12, properties_grid_check=True)
+    with pytest.raises(TypeError):
+        cmcsurf.run("G", 0.3, 16, properties_porosity="0.7", properties_solid="sheet")

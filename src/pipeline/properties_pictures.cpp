@@ -235,19 +235,23 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
     const std::string surface = r.value("surface", std::string("?"));
     const std::string solid = p.value("solid", std::string("network"));
     const double nu = p.contains("material") ? p["material"].value("poisson_ratio", 0.3) : 0.3;
-    for (const std::string part : {"cmc", "nodal"}) {
-      const std::string prefix = part == "cmc" ? "properties_" : "properties_nodal_";
-      const double rho = number_or_nan(r, prefix + "relative_density");
-      if (!std::isfinite(rho)) continue;
-      Series& s = series_of(surface, solid, part);
-      s.poisson_ratio = nu;
-      const double e = number_or_nan(r, prefix + "youngs_modulus"),
-                   k = number_or_nan(r, prefix + "conductivity_solid");
-      if (std::isfinite(e))
-        s.youngs.push_back({rho, e, number_or_nan(r, prefix + "youngs_modulus_error")});
-      if (std::isfinite(k))
-        s.conductivity.push_back({rho, k, number_or_nan(r, prefix + "conductivity_solid_error")});
-    }
+    // A member's point, or with a ramp of sheet porosities one point per porosity.
+    const bool ramp = r.contains("properties_ramp") && r["properties_ramp"].is_array();
+    for (const nlohmann::json& point : ramp ? r["properties_ramp"] : nlohmann::json::array({r}))
+      for (const std::string part : {"cmc", "nodal"}) {
+        const std::string prefix = part == "cmc" ? "properties_" : "properties_nodal_";
+        const double rho = number_or_nan(point, prefix + "relative_density");
+        if (!std::isfinite(rho)) continue;
+        Series& s = series_of(surface, solid, part);
+        s.poisson_ratio = nu;
+        const double e = number_or_nan(point, prefix + "youngs_modulus"),
+                     k = number_or_nan(point, prefix + "conductivity_solid");
+        if (std::isfinite(e))
+          s.youngs.push_back({rho, e, number_or_nan(point, prefix + "youngs_modulus_error")});
+        if (std::isfinite(k))
+          s.conductivity.push_back(
+              {rho, k, number_or_nan(point, prefix + "conductivity_solid_error")});
+      }
   }
   if (series.empty()) return out;
   for (Series& s : series)
@@ -379,6 +383,13 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
           draw_line(img, x, ya, x, yb, c);
           draw_line(img, x - 4, ya, x + 4, ya, c);
           draw_line(img, x - 4, yb, x + 4, yb, c);
+          out.error_bars.push_back({{"surface", s.surface},
+                                    {"solid", s.solid},
+                                    {"part", s.part},
+                                    {"quantity", youngs ? "youngs_modulus" : "conductivity_solid"},
+                                    {"relative_density", q.rho},
+                                    {"value", q.value},
+                                    {"error", q.error}});
         }
         draw_disc(img, x, y, 3.5, c, !dashed);
       }

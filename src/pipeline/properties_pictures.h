@@ -34,6 +34,9 @@ struct PropertiesChart {
   // conductivity_solid): surface, solid, part, quantity, coefficient C, exponent n,
   // rms_log_residual, points, valid.
   nlohmann::json fits = nlohmann::json::array();
+  // One object per bar drawn (a member's properties_*_error > 0): surface, solid, part,
+  // quantity, relative_density, value, error.
+  nlohmann::json error_bars = nlohmann::json::array();
   double seconds = 0.0;
 };
 

@@ -82,7 +82,40 @@ TEST(PropertiesPictures, ChartFitsExactPowerLawsPerFamily) {
       EXPECT_NEAR(f["coefficient"].get<double>(), cmc ? 0.5 : 1.0, 1e-12);
     }
   }
+  // A bar per member that carries an error (CMC E only here), at its value, of its size.
+  ASSERT_EQ(chart.error_bars.size(), 6u);
+  for (const auto& b : chart.error_bars) {
+    EXPECT_EQ(b["part"], "cmc");
+    EXPECT_EQ(b["quantity"], "youngs_modulus");
+    EXPECT_DOUBLE_EQ(b["error"].get<double>(), 0.01 * b["value"].get<double>());
+  }
   EXPECT_TRUE(properties_chart({nlohmann::json{{"surface", "G"}}}, "none").image.rgb.empty());
+}
+
+// A member with a ramp of sheet porosities is one point per porosity (and its own top-level
+// point is not drawn twice): three points on an exact law fit it exactly.
+TEST(PropertiesPictures, ChartDrawsARampPerPorosity) {
+  nlohmann::json ramp = nlohmann::json::array();
+  for (double rho : {0.1, 0.3, 0.5})
+    ramp.push_back({{"properties_porosity", 1 - rho},
+                    {"properties_relative_density", rho},
+                    {"properties_youngs_modulus", 0.6 * std::pow(rho, 1.3)},
+                    {"properties_youngs_modulus_error", 0.001},
+                    {"properties_conductivity_solid", 0.7 * rho}});
+  nlohmann::json r = ramp[0];
+  r["surface"] = "G";
+  r["properties"] = {{"solid", "sheet"}};
+  r["properties_ramp"] = ramp;
+  const PropertiesChart chart = properties_chart({r}, "ramp");
+  ASSERT_EQ(chart.fits.size(), 2u);
+  for (const auto& f : chart.fits) {
+    EXPECT_EQ(f["solid"], "sheet");
+    EXPECT_EQ(f["points"], 3);
+    const bool e = f["quantity"] == "youngs_modulus";
+    EXPECT_NEAR(f["exponent"].get<double>(), e ? 1.3 : 1.0, 1e-12);
+    EXPECT_NEAR(f["coefficient"].get<double>(), e ? 0.6 : 0.7, 1e-12);
+  }
+  EXPECT_EQ(chart.error_bars.size(), 3u);
 }
 
 }  // namespace

@@ -434,15 +434,93 @@ nlohmann::json properties_summary(const nlohmann::json& properties) {
   return out;
 }
 
-nlohmann::json run_properties_keys(const Field& phi, const std::string& surface, bool nodal) {
+std::vector<double> parse_properties_porosities(const std::string& text) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (!text.empty() && start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string part = text.substr(start, comma - start);
+    std::size_t used = 0;
+    double v = NAN;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size())
+      throw std::invalid_argument(fmt::format(
+          "--properties-porosity: got '{}'; accepted: P or a list P1,P2,... with 0 < P < 1",
+          text));
+    out.push_back(v);
+    start = comma + 1;
+  }
+  if (out.size() > 16)
+    throw std::invalid_argument(fmt::format(
+        "--properties-porosity: {} porosities; accepted: at most 16", out.size()));
+  return out;
+}
+
+PropertiesRequest stage_properties_request(const PropertiesStage& stage,
+                                           const std::string& surface, int grid) {
   PropertiesRequest request;
-  request.compare_nodal = nodal;
+  const bool by_porosity = !stage.porosities.empty(),
+             by_thickness = !std::isnan(stage.thickness);
+  if (stage.solid != "network" && stage.solid != "sheet")
+    throw std::invalid_argument(fmt::format(
+        "--properties-solid: got '{}'; accepted: network, sheet", stage.solid));
+  if (stage.solid == "network" && (by_porosity || by_thickness))
+    throw std::invalid_argument(fmt::format(
+        "{}: only with --properties-solid sheet (a network's porosity is its member's)",
+        by_porosity ? "--properties-porosity" : "--properties-thickness"));
+  if (stage.solid == "sheet" && by_porosity == by_thickness)
+    throw std::invalid_argument("--properties-solid sheet: give exactly one of "
+                                "--properties-porosity P and --properties-thickness T");
+  for (double porosity : stage.porosities)
+    if (!(porosity > 0.0 && porosity < 1.0))
+      throw std::invalid_argument(fmt::format(
+          "--properties-porosity: got {}; accepted: 0 < P < 1", porosity));
+  if (by_thickness && !(stage.thickness > 0.0 && stage.thickness < 0.5))
+    throw std::invalid_argument(fmt::format(
+        "--properties-thickness: got {}; accepted: 0 < T < 0.5 (unit cells)", stage.thickness));
+  if (stage.grid_check && (grid % 2 != 0 || grid < 16))
+    throw std::invalid_argument(fmt::format(
+        "--properties-grid-check: the grid {} has no half (accepted: even N >= 16)", grid));
+  set_properties_solid(request, stage.solid, 1,
+                       by_porosity ? stage.porosities.front() : NAN, stage.thickness);
+  request.compare_nodal = stage.nodal;
+  request.grid_check = stage.grid_check;
   request.surface = surface;
+  return request;
+}
+
+nlohmann::json run_properties_keys(const Field& phi, const std::string& surface,
+                                   const PropertiesStage& stage) {
+  PropertiesRequest request = stage_properties_request(stage, surface, phi.n());
   const nlohmann::json properties = compute_properties(phi, request);
   nlohmann::json keys = properties_summary(properties);
   keys["properties_seconds"] = properties["properties_seconds"];
   keys["properties"] = properties;
+  if (stage.porosities.size() > 1) {
+    nlohmann::json ramp = nlohmann::json::array();
+    double seconds = properties["properties_seconds"].get<double>();
+    for (std::size_t i = 0; i < stage.porosities.size(); ++i) {
+      request.solid.porosity = stage.porosities[i];
+      const nlohmann::json p = i == 0 ? properties : compute_properties(phi, request);
+      if (i > 0) seconds += p["properties_seconds"].get<double>();
+      nlohmann::json entry = properties_summary(p);
+      entry["properties_porosity"] = p["porosity"];
+      ramp.push_back(entry);
+    }
+    keys["properties_ramp"] = ramp;
+    keys["properties_seconds"] = seconds;
+  }
   return keys;
+}
+
+std::string properties_title(const std::string& surface, const nlohmann::json& properties) {
+  return fmt::format("{} {}, porosity {:.4f}", surface,
+                     properties.value("solid", std::string("network")),
+                     properties.value("porosity", NAN));
 }
 
 }  // namespace cmcsurf

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -71,9 +72,37 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
 // grid-checked, and the same of the nodal twin as properties_nodal_*.
 nlohmann::json properties_summary(const nlohmann::json& properties);
 
-// The report.json keys of the --properties stage of `run` and `sweep`: the network of phase 1
-// of a run's field (and its nodal twin when `nodal`) as "properties", its summary scalars and
-// "properties_seconds".
-nlohmann::json run_properties_keys(const Field& phi, const std::string& surface, bool nodal);
+// The --properties stage of `run` and `sweep` (and Python's run/sweep) as the user asks for it;
+// the options --properties-solid, --properties-porosity, --properties-thickness,
+// --properties-nodal and --properties-grid-check.
+struct PropertiesStage {
+  bool enabled = false;           // --properties (any other --properties-* implies it)
+  std::string solid = "network";  // network (phase 1) or sheet
+  // sheet: one of porosities and thickness (unit cells; NaN: none). Several porosities are a
+  // ramp: the sheet at each, "properties" the first's, "properties_ramp" all of them.
+  std::vector<double> porosities;
+  double thickness = NAN;
+  bool nodal = false;       // the nodal twin(s) at the same porosity
+  bool grid_check = false;  // N and N/2: *_error, the chart's error bars
+};
+
+// --properties-porosity's text: P or a ramp P1,P2,... (at most 16), or std::invalid_argument
+// naming the option. "" is none.
+std::vector<double> parse_properties_porosities(const std::string& text);
+
+// The request of a stage (at its first porosity) for a member of `surface` on `grid`^3, or
+// std::invalid_argument naming the stage's option (--properties-solid, ...) and what it accepts.
+PropertiesRequest stage_properties_request(const PropertiesStage& stage,
+                                           const std::string& surface, int grid);
+
+// The report.json keys of the --properties stage of `run` and `sweep`: the stage's solid of a
+// run's field (and its nodal twins with `nodal`) as "properties", its summary scalars and
+// "properties_seconds"; with a ramp of porosities also "properties_ramp", per porosity the
+// summary scalars and "properties_porosity" (what the designer's chart draws for the member).
+nlohmann::json run_properties_keys(const Field& phi, const std::string& surface,
+                                   const PropertiesStage& stage);
+
+// The title of a stage's pictures: "G network, porosity 0.7000" or "G sheet, ...".
+std::string properties_title(const std::string& surface, const nlohmann::json& properties);
 
 }  // namespace cmcsurf

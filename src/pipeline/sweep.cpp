@@ -277,10 +277,19 @@ SweepJson parse_sweep_json(const nlohmann::json& j) {
       throw std::invalid_argument(fmt::format("'outputs.threads': {}", why));
     out.outputs["threads"] = threads;
   }
-  for (const char* key : {"float32", "no_preview", "no_report", "no_plot"}) {
+  for (const char* key : {"float32", "no_preview", "no_report", "no_plot", "properties",
+                          "properties_nodal", "properties_grid_check"}) {
     bool flag = false;
     if (read(o, "outputs.", key, flag, true)) out.outputs[key] = flag;
   }
+  // The --properties stage's solid; its ranges are checked where the command line's are.
+  for (const char* key : {"properties_solid", "properties_porosity"}) {
+    std::string text;
+    if (read(o, "outputs.", key, text, true)) out.outputs[key] = text;
+  }
+  double thickness = 0.0;
+  if (read(o, "outputs.", "properties_thickness", thickness, true))
+    out.outputs["properties_thickness"] = thickness;
   double every = 0.0;
   if (read(o, "outputs.", "checkpoint_every", every, true)) {
     if (!(every >= 0.0 && every <= 1e9))

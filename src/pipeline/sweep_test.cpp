@@ -132,7 +132,11 @@ nlohmann::json sweep_json() {
             {"no_plot", true},
             {"python", "/tmp/evil"},
             {"plot_script", "/tmp/evil.py"},
-            {"checkpoint_every", 60.0}}}};
+            {"checkpoint_every", 60.0},
+            {"properties", true},
+            {"properties_solid", "sheet"},
+            {"properties_porosity", "0.6,0.8"},
+            {"properties_grid_check", true}}}};
 }
 
 TEST(Sweep, ParsesSweepJsonWithoutExecutables) {
@@ -146,6 +150,11 @@ TEST(Sweep, ParsesSweepJsonWithoutExecutables) {
   EXPECT_TRUE(s.outputs.value("float32", false));
   EXPECT_FALSE(s.outputs.contains("python"));
   EXPECT_FALSE(s.outputs.contains("plot_script"));
+  // the --properties stage is restored too (it was dropped, so a resume lost the chart)
+  EXPECT_TRUE(s.outputs.value("properties", false));
+  EXPECT_TRUE(s.outputs.value("properties_grid_check", false));
+  EXPECT_EQ(s.outputs.value("properties_solid", ""), "sheet");
+  EXPECT_EQ(s.outputs.value("properties_porosity", ""), "0.6,0.8");
 }
 
 TEST(Sweep, SweepJsonOutOfRangeNamesTheKey) {
@@ -166,6 +175,8 @@ TEST(Sweep, SweepJsonOutOfRangeNamesTheKey) {
   refused([](auto& j) { j["outputs"]["checkpoint_every"] = -1; }, "'outputs.checkpoint_every'");
   refused([](auto& j) { j["outputs"]["float32"] = 1; }, "'outputs.float32'");
   refused([](auto& j) { j["outputs"]["python"] = 3; }, "'outputs.python'");
+  refused([](auto& j) { j["outputs"]["properties_porosity"] = 0.7; },
+          "'outputs.properties_porosity'");
   refused([](auto& j) { j["outputs"] = 3; }, "'outputs'");
   refused([](auto& j) { j["members"] = 3; }, "'members'");
   refused([](auto& j) { j["members"] = -1; }, "'members'");
