@@ -10,6 +10,7 @@
 # grids of --fast.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
@@ -32,14 +33,11 @@ start() {
 }
 
 same_as_whole() {  # $1: folder of a resumed run
-  python3 - "$work/whole" "$1" <<'PY' || fail=1
+  PYTHONPATH="$support" python3 - "$work/whole" "$1" <<'PY' || fail=1
 import json, os, sys
+from report_keys import differing_keys
 a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
-diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+diff = differing_keys(a, b)
 assert not diff, f"resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0 and b["steps"] == a["steps"] and b["vcycles"] == a["vcycles"]
 files = [sorted(os.listdir(d)) for d in sys.argv[1:3]]

@@ -9,6 +9,7 @@
 # written exits at once (143) writing nothing more, and the next run removes its temporary.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
@@ -17,14 +18,11 @@ fail=0
 # Compares a resumed folder with the uninterrupted one: report (timings aside), file list,
 # every field value and the mesh.
 same() {
-  python3 - "$1" "$2" <<'PY' || fail=1
+  PYTHONPATH="$support" python3 - "$1" "$2" <<'PY' || fail=1
 import json, os, sys
+from report_keys import differing_keys
 a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
-diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+diff = differing_keys(a, b)
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0, b.get("resumed_from_step")
 assert b["threads"] == a["threads"], (a["threads"], b["threads"])

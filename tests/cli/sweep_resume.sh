@@ -6,6 +6,7 @@
 # sweep.json whose parameters are out of range are refused.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
@@ -55,16 +56,13 @@ $hint 2>"$work/resume.log" || { echo "FAIL: resume"; cat "$work/resume.log"; fai
 [ "$(ls "$work/whole")" = "$(ls "$work/cut")" ] ||
   { echo "FAIL: files: $(ls "$work/whole") vs $(ls "$work/cut")"; fail=1; }
 grep -q "P_0.30: complete, kept" "$work/resume.log" || { echo "FAIL: P_0.30 not kept"; fail=1; }
-python3 - "$work/whole" "$work/cut" <<'PY' || fail=1
+PYTHONPATH="$support" python3 - "$work/whole" "$work/cut" <<'PY' || fail=1
 import csv, json, sys
+from report_keys import differing_keys
 a, b = (list(csv.DictReader(open(f"{d}/sweep.csv"))) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
 assert len(a) == len(b) == 3, (len(a), len(b))
 for x, y in zip(a, b):
-    diff = [k for k in set(x) | set(y) if k not in timing and x.get(k) != y.get(k)]
+    diff = differing_keys(x, y)
     assert not diff, f"{x['member']}: {diff}"
 s = json.load(open(f"{sys.argv[2]}/sweep.json"))
 assert s["complete"] and s["resumed"] == {"members_kept": 1, "members_resumed": 1}, s
