@@ -67,7 +67,7 @@ json_has "$work/big.stl.json" applied false
 check grep -q '"note": "the input is within the budget' "$work/big.stl.json"
 check test ! -s "$work/big.txt"
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written:
-# first as a member of another topology than P's (issue 23), then, taken anyway, as closed.
+# first as a member of another topology than P's, then, taken anyway, as closed.
 "$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
 rc=$?
