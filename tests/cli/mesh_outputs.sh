@@ -46,8 +46,8 @@ check grep -q '"pore_percolates"' "$work/sheet.stl.json"
 json_has "$work/graded.stl.json" closed true
 json_has "$work/graded.stl.json" manifold true
 check grep -q '"achieved"' "$work/graded.stl.json"
-# A field.vti without the periodic wrap (N points per axis, the layout before issue 18 and of
-# other tools) meshes to the same bytes as the wrapped one it is cut from.
+# A field.vti without the periodic wrap (N points per axis, the layout of older cmcsurf and
+# of other tools) meshes to the same bytes as the wrapped one it is cut from.
 /usr/bin/python3 - "$work/g0.3/field.vti" "$work/nowrap.vti" <<'PY' || { echo "FAIL: writing nowrap.vti"; fail=1; }
 import re, struct, sys
 import numpy as np
