@@ -15,10 +15,12 @@ work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
 # ~160 steps at 16^3: about 90 of relaxation, then one volume correction (0.3 s; 2 s under ASan).
-args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7 --max-volume-corrections 1)
+args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7
+      --max-volume-corrections 1)
 outputs=(--float32 --mesh ply --no-preview --no-report)
 
-"$bin" "${args[@]}" "${outputs[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain run"; exit 1; }
+"$bin" "${args[@]}" "${outputs[@]}" --quiet --out "$work/whole" ||
+  { echo "FAIL: the plain run"; exit 1; }
 
 # Starts a run in the background and waits until its progress shows stage $2 (or a file).
 start() {
@@ -78,14 +80,16 @@ assert r['checkpoint']['stage'] == 'relax', r['checkpoint']
   rc=$?
   [ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" ||
     { echo "FAIL: --resume with --grid 64 exited $rc:"; cat "$work/err"; fail=1; }
-  [ "$before" = "$(md5sum "$out"/* | md5sum)" ] || { echo "FAIL: a refused resume changed files"; fail=1; }
+  [ "$before" = "$(md5sum "$out"/* | md5sum)" ] ||
+    { echo "FAIL: a refused resume changed files"; fail=1; }
 
   [ $sig = INT ] && break  # its checkpoint is damaged below
   # What a process killed while writing leaves (a dead pid's temporary): the resume removes it.
   echo partial >"$out/checkpoint.bin.cmcsurf-tmp.2147483647.0"
   $hint --quiet || { echo "FAIL: the printed resume command after SIG$sig"; fail=1; }
   same_as_whole "$out"
-  [ ! -e "$out/checkpoint.bin.cmcsurf-tmp.2147483647.0" ] || { echo "FAIL: stale temporary kept"; fail=1; }
+  [ ! -e "$out/checkpoint.bin.cmcsurf-tmp.2147483647.0" ] ||
+    { echo "FAIL: stale temporary kept"; fail=1; }
 done
 
 # kill -9 after a periodic checkpoint: the resumed run still ends on the same bits.

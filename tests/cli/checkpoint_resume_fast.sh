@@ -53,7 +53,8 @@ assert files[0] == files[1], f"the folders hold {files[0]} and {files[1]}"
 PY
   cmp -s <(grep -av seconds "$work/whole/field.vti") <(grep -av seconds "$work/$name/field.vti") ||
     { echo "FAIL: $name/field.vti differs"; fail=1; }
-  cmp -s "$work/whole/surface.stl" "$work/$name/surface.stl" || { echo "FAIL: $name/surface.stl differs"; fail=1; }
+  cmp -s "$work/whole/surface.stl" "$work/$name/surface.stl" ||
+    { echo "FAIL: $name/surface.stl differs"; fail=1; }
 done
 [ $fail = 0 ] && echo "checkpoint_resume_fast: all passed"
 exit $fail

@@ -62,7 +62,8 @@ refused() {  # $1: folder, $2: pattern the message must hold
   local rc=$?
   [ $rc = 2 ] && grep -q -- "$2" "$work/err" ||
     { echo "FAIL: $1: exit $rc, no '$2' in:"; cat "$work/err"; fail=1; }
-  [ "$before" = "$(md5sum "$1"/* | md5sum)" ] || { echo "FAIL: a refused resume changed $1"; fail=1; }
+  [ "$before" = "$(md5sum "$1"/* | md5sum)" ] ||
+    { echo "FAIL: a refused resume changed $1"; fail=1; }
 }
 
 # --- Stages: 40 pre-relaxation steps so that a signal can land in them (16^3, 1 s a run).
@@ -90,12 +91,14 @@ assert c['stage'] == '$stage' and c['grid'] == 16, c
     cp -r "$out" "$work/other-build"
     patch_header "$work/other-build/checkpoint.bin" \
       're.sub(rb"\(commit ([^,]+),", lambda m: b"(commit " + b"0" * len(m[1]) + b",", h, count=1)'
-    refused "$work/other-build" "written by cmcsurf [0-9.]* (commit 0*, .*; this is cmcsurf [0-9.]* (commit [0-9a-f]"
+    refused "$work/other-build" \
+      "written by cmcsurf [0-9.]* (commit 0*, .*; this is cmcsurf [0-9.]* (commit [0-9a-f]"
     # Valid checksums, hostile contents: a parameter out of range; volume iterates in a
     # pre-relaxation (no run reaches that state).
     cp -r "$out" "$work/hostile-params"
     patch_header "$work/hostile-params/checkpoint.bin" \
-      're.sub(rb"gepsilon\xfb.{8}", b"gepsilon\xfb" + struct.pack(">d", 2.0), h, count=1, flags=re.S)'
+      're.sub(rb"gepsilon\xfb.{8}", b"gepsilon\xfb" + struct.pack(">d", 2.0), h, count=1,
+              flags=re.S)'
     refused "$work/hostile-params" "parameter out of range: --epsilon: got 2"
     cp -r "$out" "$work/hostile-state"
     patch_header "$work/hostile-state/checkpoint.bin" \
@@ -139,7 +142,8 @@ names = sorted(os.listdir(out))
 check("report.json" not in names, f"kill -9 during the outputs left report.json: {names}")
 check("checkpoint.bin" in names, f"the periodic checkpoint is gone: {names}")
 if "field.vti" in names:  # only ever complete under its final name
-    check(open(f"{out}/field.vti", "rb").read().rstrip().endswith(b"</VTKFile>"), "partial field.vti")
+    check(open(f"{out}/field.vti", "rb").read().rstrip().endswith(b"</VTKFile>"),
+          "partial field.vti")
 r = subprocess.run([bin, "run", "--resume", out], capture_output=True, text=True)
 check(r.returncode == 0, f"resume after kill -9 during the outputs: {r.stderr}")
 left = [n for n in os.listdir(out) if ".cmcsurf-tmp." in n or n == "checkpoint.bin"]

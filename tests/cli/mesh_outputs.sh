@@ -48,7 +48,8 @@ json_has "$work/graded.stl.json" manifold true
 check grep -q '"achieved"' "$work/graded.stl.json"
 # A field.vti without the periodic wrap (N points per axis, the layout of older cmcsurf and
 # of other tools) meshes to the same bytes as the wrapped one it is cut from.
-/usr/bin/python3 - "$work/g0.3/field.vti" "$work/nowrap.vti" <<'PY' || { echo "FAIL: writing nowrap.vti"; fail=1; }
+/usr/bin/python3 - "$work/g0.3/field.vti" "$work/nowrap.vti" <<'PY' ||
+  { echo "FAIL: writing nowrap.vti"; fail=1; }
 import re, struct, sys
 import numpy as np
 data = open(sys.argv[1], "rb").read()
@@ -62,7 +63,8 @@ values = np.frombuffer(data, dtype="<f8", count=m ** 3, offset=start + 8).reshap
 assert nbytes == 8 * m ** 3 and (values[-1] == values[0]).all()
 cut = np.ascontiguousarray(values[:-1, :-1, :-1])
 n = m - 1
-head = head.replace("layout=periodic\n", "").replace(f"0 {n} 0 {n} 0 {n}", f"0 {n - 1} 0 {n - 1} 0 {n - 1}")
+head = head.replace("layout=periodic\n", "").replace(f"0 {n} 0 {n} 0 {n}",
+                                                   f"0 {n - 1} 0 {n - 1} 0 {n - 1}")
 tail = data[start + 8 + nbytes:]
 open(sys.argv[2], "wb").write(head.encode() + struct.pack("<Q", cut.nbytes) + cut.tobytes() + tail)
 PY

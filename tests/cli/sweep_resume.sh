@@ -26,13 +26,16 @@ kill -TERM $pid
 wait $pid
 rc=$?
 [ $rc = 143 ] || { echo "FAIL: SIGTERM exited $rc"; cat "$work/cut.log"; fail=1; }
-grep -q "resume with: .* sweep --resume $work/cut" "$work/cut.log" || { echo "FAIL: no hint"; fail=1; }
-[ -s "$work/cut/P_0.40/checkpoint.bin" ] || { echo "FAIL: no member checkpoint"; ls -R "$work/cut"; fail=1; }
+grep -q "resume with: .* sweep --resume $work/cut" "$work/cut.log" ||
+  { echo "FAIL: no hint"; fail=1; }
+[ -s "$work/cut/P_0.40/checkpoint.bin" ] ||
+  { echo "FAIL: no member checkpoint"; ls -R "$work/cut"; fail=1; }
 [ ! -e "$work/cut/P_0.50" ] || { echo "FAIL: a later member started"; fail=1; }
 
 "$bin" sweep --resume "$work/cut" --grid 64 2>"$work/err"
 rc=$?
-[ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" || { echo "FAIL: --grid 64 exit $rc"; cat "$work/err"; fail=1; }
+[ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" ||
+  { echo "FAIL: --grid 64 exit $rc"; cat "$work/err"; fail=1; }
 # sweep.json edited out of range (a parameter, a volume fraction): exit 2 naming it, nothing
 # changes.
 for edit in 's["parameters"]["epsilon"] = -1' 's["volume_fractions"][1] = 1.5'; do
@@ -68,7 +71,8 @@ s = json.load(open(f"{sys.argv[2]}/sweep.json"))
 assert s["complete"] and s["resumed"] == {"members_kept": 1, "members_resumed": 1}, s
 PY
 for m in P_0.30 P_0.40 P_0.50; do
-  cmp -s <(grep -av seconds "$work/whole/$m/field.vti") <(grep -av seconds "$work/cut/$m/field.vti") ||
+  cmp -s <(grep -av seconds "$work/whole/$m/field.vti") \
+    <(grep -av seconds "$work/cut/$m/field.vti") ||
     { echo "FAIL: $m/field.vti differs"; fail=1; }
   [ ! -e "$work/cut/$m/checkpoint.bin" ] || { echo "FAIL: $m/checkpoint.bin left"; fail=1; }
 done

@@ -86,7 +86,8 @@ PY
   done
   [ -e "$out/field.vti" ] || [ -e "$out/field.pvti" ] || { echo "FAIL: no field written"; fail=1; }
   [ ! -e "$out/checkpoint.bin" ] || { echo "FAIL: checkpoint left after completion"; fail=1; }
-  [ ! -e "$out/checkpoint.parts" ] || { echo "FAIL: checkpoint pieces left after completion"; fail=1; }
+  [ ! -e "$out/checkpoint.parts" ] ||
+    { echo "FAIL: checkpoint pieces left after completion"; fail=1; }
 done
 [ $fail = 0 ] && echo "mpi resume (np $np): all passed"
 exit $fail

@@ -72,8 +72,10 @@ files() {
 # 2 groups (np 2: of one rank; np 4: of two ranks, each member decomposed 1 x 1 x 2).
 mpi "${args[@]}" --groups 2 --out "$work/g2" 2>"$work/g2.log"
 rc=$?
-[ $rc = 0 ] || { echo "FAIL: mpirun -np $np sweep --groups 2 exited $rc"; cat "$work/g2.log"; exit 1; }
-grep -q "in 2 groups of $((np / 2))" "$work/g2.log" || { echo "FAIL: no plan printed"; cat "$work/g2.log"; fail=1; }
+[ $rc = 0 ] ||
+  { echo "FAIL: mpirun -np $np sweep --groups 2 exited $rc"; cat "$work/g2.log"; exit 1; }
+grep -q "in 2 groups of $((np / 2))" "$work/g2.log" ||
+  { echo "FAIL: no plan printed"; cat "$work/g2.log"; fail=1; }
 PYTHONPATH="$support" python3 "$work/compare.py" "$work/serial" "$work/g2" 1e-12 || fail=1
 if [ "$np" = 4 ]; then  # groups of two: every member's field in two pieces, read by mesh --from
   for d in "$work"/g2/*/; do
@@ -107,7 +109,8 @@ PY
 # The automatic plan: a member per rank (np groups of one), the serial code bit for bit.
 mpi "${args[@]}" --no-plot --out "$work/auto" 2>"$work/auto.log" ||
   { echo "FAIL: mpirun sweep without --groups"; cat "$work/auto.log"; fail=1; }
-grep -q "in $np groups of 1" "$work/auto.log" || { echo "FAIL: automatic plan"; cat "$work/auto.log"; fail=1; }
+grep -q "in $np groups of 1" "$work/auto.log" ||
+  { echo "FAIL: automatic plan"; cat "$work/auto.log"; fail=1; }
 PYTHONPATH="$support" python3 "$work/compare.py" "$work/serial" "$work/auto" 0 || fail=1
 
 # Continuation: each family runs in order on one group (np 4: 2 groups of 2).
@@ -129,7 +132,8 @@ mpi sweep --resume "$work/cres" 2>"$work/cres.log" ||
 PYTHONPATH="$support" python3 "$work/compare.py" "$work/cserial" "$work/cres" 1e-12 || fail=1
 python3 -c "
 import json, sys; s = json.load(open('$work/cres/sweep.json'))
-sys.exit(0 if s['complete'] and s['resumed'] == {'members_kept': 2, 'members_resumed': 0} else 1)" ||
+ok = s['complete'] and s['resumed'] == {'members_kept': 2, 'members_resumed': 0}
+sys.exit(0 if ok else 1)" ||
   { echo "FAIL: resumed sweep.json"; cat "$work/cres/sweep.json"; fail=1; }
 
 # SIGTERM to the ranks (mpirun passes it on): every group stops its member after one agreed
@@ -149,7 +153,8 @@ done
 pkill -TERM -P "$(pgrep -P $pid | head -1)"
 wait $pid
 rc=$?
-[ $rc = 143 ] || { echo "FAIL: SIGTERM to the ranks: exit $rc, want 143"; cat "$work/cut.log"; fail=1; }
+[ $rc = 143 ] ||
+  { echo "FAIL: SIGTERM to the ranks: exit $rc, want 143"; cat "$work/cut.log"; fail=1; }
 grep -q "resume with: mpirun -np $np .* sweep --resume $work/cut" "$work/cut.log" ||
   { echo "FAIL: no resume hint"; cat "$work/cut.log"; fail=1; }
 [ -s "$work/cut/P_0.40/checkpoint.bin" ] || { echo "FAIL: no checkpoint of P_0.40"; fail=1; }
@@ -164,8 +169,10 @@ if find "$work/cut" -name 'checkpoint*' | grep -q .; then echo "FAIL: checkpoint
 mkdir "$work/err" && : >"$work/err/.cmcsurf" && echo x >"$work/err/P_0.60"
 mpi "${args[@]}" --groups 2 --no-plot --no-preview --out "$work/err" 2>"$work/err.log"
 rc=$?
-[ $rc = 1 ] || { echo "FAIL: an error in one group exited $rc, want 1"; cat "$work/err.log"; fail=1; }
-grep -q "^group 1: error: .*P_0.60" "$work/err.log" || { echo "FAIL: no group 1 error"; cat "$work/err.log"; fail=1; }
+[ $rc = 1 ] ||
+  { echo "FAIL: an error in one group exited $rc, want 1"; cat "$work/err.log"; fail=1; }
+grep -q "^group 1: error: .*P_0.60" "$work/err.log" ||
+  { echo "FAIL: no group 1 error"; cat "$work/err.log"; fail=1; }
 for m in P_0.40 D_0.40; do
   [ -s "$work/err/$m/report.json" ] || { echo "FAIL: group 0 did not finish $m"; fail=1; }
 done
