@@ -48,8 +48,9 @@ json_has "$work/graded.stl.json" manifold true
 check grep -q '"achieved"' "$work/graded.stl.json"
 # A field.vti without the periodic wrap (N points per axis, the layout of older cmcsurf and
 # of other tools) meshes to the same bytes as the wrapped one it is cut from.
-/usr/bin/python3 - "$work/g0.3/field.vti" "$work/nowrap.vti" <<'PY' ||
-  { echo "FAIL: writing nowrap.vti"; fail=1; }
+# (The || clause stays on the heredoc's line: the lines after it are the heredoc.)
+wrapped="$work/g0.3/field.vti"
+/usr/bin/python3 - "$wrapped" "$work/nowrap.vti" <<'PY' || { echo "FAIL: nowrap.vti"; fail=1; }
 import re, struct, sys
 import numpy as np
 data = open(sys.argv[1], "rb").read()
