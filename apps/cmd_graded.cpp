@@ -104,7 +104,8 @@ CommandFn add_graded_command(CLI::App& root) {
                 const nlohmann::json r = read_json_file(report);
                 if (r.contains("parameters") && r["parameters"].contains("volume_tol") &&
                     r["parameters"]["volume_tol"].is_number())
-                  fraction_tol = std::max(fraction_tol, r["parameters"]["volume_tol"].get<double>());
+                  fraction_tol =
+                      std::max(fraction_tol, r["parameters"]["volume_tol"].get<double>());
               }
               GradedMember g;
               std::map<std::string, std::string> metadata;
@@ -125,8 +126,9 @@ CommandFn add_graded_command(CLI::App& root) {
                                              m, g.phi.n(), members[0].phi.n()));
               members.push_back(std::move(g));
             }
-            std::sort(members.begin(), members.end(),
-                      [](const auto& a, const auto& b) { return a.volume_fraction < b.volume_fraction; });
+            std::sort(members.begin(), members.end(), [](const auto& a, const auto& b) {
+              return a.volume_fraction < b.volume_fraction;
+            });
             for (std::size_t i = 1; i < members.size(); ++i)
               if (members[i].volume_fraction <= members[i - 1].volume_fraction)
                 throw UsageError("--members: two members have the same volume fraction");
@@ -143,11 +145,15 @@ CommandFn add_graded_command(CLI::App& root) {
             apply_threads(cmd->threads);
 
             const auto t0 = std::chrono::steady_clock::now();
-            const TiledSampler blend = graded_sampler(members, ramp, plan.params.tiles, fraction_tol);
+            const TiledSampler blend =
+                graded_sampler(members, ramp, plan.params.tiles, fraction_tol);
             const double sign = plan.params.other_phase ? -1.0 : 1.0;
-            const TiledSampler f = [&](int i, int j, int k) { return 0.5 + sign * (blend(i, j, k) - 0.5); };
+            const TiledSampler f = [&](int i, int j, int k) {
+              return 0.5 + sign * (blend(i, j, k) - 0.5);
+            };
             const bool solid = plan.params.solid == SolidKind::kNetwork;
-            const TriMesh mesh = mesh_tiled(f, n, plan.params.tiles, plan.params.cell_size, 0.5, solid);
+            const TriMesh mesh =
+                mesh_tiled(f, n, plan.params.tiles, plan.params.cell_size, 0.5, solid);
             const double seconds =
                 seconds_since(t0);
             nlohmann::json report =
@@ -169,15 +175,19 @@ CommandFn add_graded_command(CLI::App& root) {
                   {"members", cmd->members},
                   {"member_volume_fractions", fractions},
                   {"fraction_tolerance", fraction_tol},
-                  {"blend", "linear in the target fraction between the two bracketing members, per sample"},
-                  {"cells_note", "per tile: target at the tile centre, achieved = fraction of phase-1 samples of the blended field"},
+                  {"blend",
+                   "linear in the target fraction between the two bracketing members, per sample"},
+                  {"cells_note",
+                   "per tile: target at the tile centre, achieved = fraction of phase-1 samples of "
+                   "the blended field"},
                   {"cells", graded_cell_report(blend, n, ramp, plan.params.tiles)}}}};
             write_mesh_with_report(mesh, report, plan, extra);
             if (!cmd->quiet)
-              std::cerr << fmt::format("graded {}: {} triangles, {}, meshed in {:.2f} s\nwrote {} and {}.json\n",
-                                       extra["solid"].get<std::string>(), mesh.triangles.size(),
-                                       report["checks"]["closed"].get<bool>() ? "closed" : "open",
-                                       seconds, plan.out.string(), plan.out.string());
+              std::cerr << fmt::format(
+                  "graded {}: {} triangles, {}, meshed in {:.2f} s\nwrote {} and {}.json\n",
+                  extra["solid"].get<std::string>(), mesh.triangles.size(),
+                  report["checks"]["closed"].get<bool>() ? "closed" : "open", seconds,
+                  plan.out.string(), plan.out.string());
             return 0;
           }};
 }

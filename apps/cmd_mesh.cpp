@@ -61,9 +61,9 @@ CommandFn add_mesh_command(CLI::App& root) {
                   "{} and {}; meshed in {:.2f} s\nwrote {} and {}.json\n",
                   r["solid"].get<std::string>(), r["tiles"].dump(), r["triangles"].get<long>(),
                   r["vertices"].get<long>(), r["area"].get<double>(), plan.params.units,
-                  r.contains("volume")
-                      ? fmt::format(", volume {:.6g} {}^3", r["volume"].get<double>(), plan.params.units)
-                      : "",
+                  r.contains("volume") ? fmt::format(", volume {:.6g} {}^3",
+                                                     r["volume"].get<double>(), plan.params.units)
+                                       : "",
                   r["euler_characteristic"].get<long>(),
                   r["checks"]["closed"].get<bool>() ? "closed" : "open",
                   r["checks"]["manifold"].get<bool>() ? "manifold" : "NOT manifold",
@@ -74,7 +74,9 @@ CommandFn add_mesh_command(CLI::App& root) {
                     r["topology"]["fragments_removed"].get<bool>() ? "removed" : "kept",
                     r["topology"]["fragments"].get<long>(),
                     r["topology"]["fragment_volume"].get<double>(), plan.params.units,
-                    r["topology"]["fragments_removed"].get<bool>() ? " (--keep-fragments keeps them)" : "");
+                    r["topology"]["fragments_removed"].get<bool>()
+                        ? " (--keep-fragments keeps them)"
+                        : "");
             }
             return 0;
           }};

@@ -34,8 +34,8 @@ int report(const ReportCommand& cmd) {
         "a run or sweep writes these last, so the run may have stopped before it finished",
         cmd.dir));
   // Written by cmcsurf, and not being written now (io/output_folder.h).
-  const FolderClaim claim =
-      claim_folder(dir, {.kind = sweep ? "sweep" : "run", .option = "DIR"}, *Decomposition::world());
+  const FolderClaim claim = claim_folder(dir, {.kind = sweep ? "sweep" : "run", .option = "DIR"},
+                                         *Decomposition::world());
   // A sweep's gallery.png (missing after --no-preview, or an interrupted sweep) from its
   // members' folders, since the page shows it.
   if (sweep && !fs::exists(dir / "gallery.png")) {

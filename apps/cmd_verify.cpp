@@ -176,7 +176,8 @@ CommandFn add_verify_command(CLI::App& root) {
               if (!problem.empty()) throw UsageError(fmt::format("{}: {}", name, problem));
             }
             if (cmd->cube_steps < 1)
-              throw UsageError(fmt::format("--cube-steps: got {}; accepted: >= 1", cmd->cube_steps));
+              throw UsageError(
+                  fmt::format("--cube-steps: got {}; accepted: >= 1", cmd->cube_steps));
             const int threads = apply_threads(cmd->threads);
             fmt::print("cmcsurf {} verify{} ({} threads)\n", version_string(),
                        cmd->quick ? " --quick" : "", threads);

@@ -29,7 +29,8 @@ void add_mesh_output_options(CLI::App& app, MeshOptionStrings& s, bool with_shee
       ->capture_default_str();
   app.add_option("--cell-size", s.cell_size, "Edge of one unit cell in output units")
       ->capture_default_str();
-  app.add_option("--units", s.units, std::string("Length unit of the coordinates: ") + mesh_units_list())
+  app.add_option("--units", s.units,
+                 std::string("Length unit of the coordinates: ") + mesh_units_list())
       ->capture_default_str();
   app.add_option("--solid", s.solid,
                  with_sheet ? "surface (the phi = 1/2 interface), network (the region phi > 1/2, "

@@ -123,14 +123,15 @@ void BM_VCycle(benchmark::State& state) {
   state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(358 * cells(n) * 8 / 7));
 }
 
-BENCHMARK(BM_StreamTriad)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_SmootherSweep)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_SmootherSweepTwoPass)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Residual)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Restriction)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Interpolation)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Area)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_VCycle)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
+constexpr auto kMs = benchmark::kMillisecond;
+BENCHMARK(BM_StreamTriad)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_SmootherSweep)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_SmootherSweepTwoPass)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_Residual)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_Restriction)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_Interpolation)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_Area)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_VCycle)->Arg(64)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 
 }  // namespace
 }  // namespace cmcsurf

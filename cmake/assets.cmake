@@ -3,7 +3,8 @@
 # the report page's script, web/src/*.js bundled with three.js by esbuild from the npm lock
 # file at build time. The bytes are linked in with the assembler's .incbin.
 find_package(PkgConfig REQUIRED)
-pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)  # Debian libstb-dev: stb_truetype, stb_image(_write)
+# Debian libstb-dev: stb_truetype, stb_image(_write)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 find_file(CMCSURF_FONT_FILE DejaVuSans.ttf
           PATHS /usr/share/fonts/truetype/dejavu /usr/share/fonts/TTF NO_DEFAULT_PATH)
 if(NOT CMCSURF_FONT_FILE)

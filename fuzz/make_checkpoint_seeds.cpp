@@ -185,8 +185,9 @@ int main() {
     put("crash-empty-header.bin", s);
   }
 
-  // Valid checksums, hostile contents (issue 14's audit): parameters out of range, a stage
-  // grid off the run's levels, seconds no clock holds (the reader refuses these) ...
+  // Valid checksums, hostile contents (a crafted file must not reach the solver): parameters
+  // out of range, a stage grid off the run's levels, seconds no clock holds (the reader
+  // refuses these) ...
   put("bad-params-epsilon.bin", written(Kind::kRelax, [](auto&, auto& p) { p["epsilon"] = 2.0; }));
   put("bad-params-nan.bin",
       written(Kind::kRelax, [](auto&, auto& p) { p["tol"] = std::nan(""); }));

@@ -105,11 +105,12 @@ int main() {
   put("bad-n-over-limit.vti", edit(edit(w4, "0 4 0 4 0 4", "0 99 0 99 0 99"), "0 4 0 4 0 4",
                                     "0 99 0 99 0 99"));
   put("bad-not-cubic.vti", edit(w4, "0 4 0 4 0 4", "0 4 0 4 0 5"));
-  put("bad-compressed.vti", edit(w4, "byte_order", "compressor=\"vtkZLibDataCompressor\" byte_order"));
+  put("bad-compressed.vti",
+      edit(w4, "byte_order", "compressor=\"vtkZLibDataCompressor\" byte_order"));
   put("bad-big-endian.vti", edit(w4, "LittleEndian", "BigEndian"));
   put("bad-int32.vti", edit(w4, "type=\"Float64\" Name=\"phi\"", "type=\"Int32\" Name=\"phi\""));
-  put("bad-celldata.vti", edit(edit(w4, "<PointData", "<CellData"), "</PointData>\n      <CellData>",
-                               "</CellData>\n      <PointData>"));
+  put("bad-celldata.vti", edit(edit(w4, "<PointData", "<CellData"),
+                               "</PointData>\n      <CellData>", "</CellData>\n      <PointData>"));
   put("bad-unquoted.vti", edit(w4, "offset=\"0\"", "offset=0"));
   put("bad-root.vti", edit(w4, "<VTKFile", "<VTKFilf"));
   {

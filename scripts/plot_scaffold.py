@@ -76,7 +76,8 @@ def main():
         ax.set_title(f"cut at {names[axis]} = {mid:.3g} {units}")
     m = report["morphometry"]
     ax = axes[2]
-    for key, label, color in (("wall_thickness", "wall thickness", "C0"), ("pore_size", "pore size", "C1")):
+    for key, label, color in (("wall_thickness", "wall thickness", "C0"),
+                              ("pore_size", "pore size", "C1")):
         s = m[key]
         edges = np.array(s["histogram_edges"])
         ax.stairs(np.array(s["histogram"]), edges, color=color,
@@ -85,8 +86,9 @@ def main():
     ax.set_ylabel("fraction of the phase")
     ax.legend()
     d = report["design"]
-    fig.suptitle(f"{d['solid']} scaffold: porosity {report['porosity']:.4f} (target {d['porosity']}), "
-                 f"cell {d['cell_size']} {units}, specific surface {m['specific_surface']:.3g} 1/{units}")
+    fig.suptitle(f"{d['solid']} scaffold: porosity {report['porosity']:.4f} "
+                 f"(target {d['porosity']}), cell {d['cell_size']} {units}, "
+                 f"specific surface {m['specific_surface']:.3g} 1/{units}")
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     return 0

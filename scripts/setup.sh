@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages cmcsurf needs and builds it in ./build (Release), and the
 # MPI build (-DCMCSURF_MPI=ON, OpenMPI) in ./build-mpi.
 # Usage: scripts/setup.sh [--no-install]    (CMCSURF_BUILD_DIR overrides ./build,
-#        CMCSURF_MPI_BUILD_DIR ./build-mpi; CMCSURF_MPI_BUILD_DIR=none skips the MPI build)
+#        CMCSURF_MPI_BUILD_DIR ./build-mpi; CMCSURF_MPI_BUILD_DIR=none skips the MPI build;
+#        CMCSURF_WERROR=ON makes compiler warnings errors, as scripts/test.sh does)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
@@ -30,7 +31,8 @@ fuzz_build="${CMCSURF_FUZZ_BUILD_DIR:-none}"
 if [ "${1:-}" != "--no-install" ]; then
   missing=()
   for p in "${packages[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+      missing+=("$p")
   done
   if [ "${#missing[@]}" -gt 0 ]; then
     echo "setup: installing ${missing[*]}"
@@ -41,14 +43,16 @@ if [ "${1:-}" != "--no-install" ]; then
     "${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
   fi
 fi
+# CMCSURF_WERROR=ON (scripts/test.sh, CI) makes warnings errors; off for a user's build.
+werror="${CMCSURF_WERROR:-OFF}"
 build="${CMCSURF_BUILD_DIR:-build}"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_WERROR="$werror" >/dev/null
 cmake --build "$build" -j "$(nproc)"
 echo "setup: built $build/cmcsurf"
 mpi_build="${CMCSURF_MPI_BUILD_DIR:-build-mpi}"
 if [ "$mpi_build" != none ]; then
   cmake -S . -B "$mpi_build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_MPI=ON \
-        -DCMCSURF_BUILD_BENCH=OFF >/dev/null
+        -DCMCSURF_BUILD_BENCH=OFF -DCMCSURF_WERROR="$werror" >/dev/null
   cmake --build "$mpi_build" -j "$(nproc)" --target cmcsurf cmcsurf_mpi_tests
   echo "setup: built $mpi_build/cmcsurf (MPI: mpirun -np P $mpi_build/cmcsurf run ...)"
 fi

@@ -49,7 +49,8 @@ Field sample_at_centres(int n, int ghost, F f) {
 inline double max_abs_diff(const Field& a, const Field& b) {
   CMCSURF_CHECK(a.size() == b.size());
   double m = 0.0;
-  for_each_cell(a, [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k) - b(i, j, k))); });
+  for_each_cell(a,
+                [&](int i, int j, int k) { m = std::max(m, std::abs(a(i, j, k) - b(i, j, k))); });
   return m;
 }
 

@@ -1087,7 +1087,7 @@ py::object scattering(py::handle source, const py::dict& o, py::handle threads) 
   saxs["intensity"] =
       py::array_t<double>(result.powder.intensity.size(), result.powder.intensity.data());
   d["saxs"] = saxs;
-  return std::move(d);
+  return d;
 }
 
 py::list surfaces() {

@@ -79,3 +79,11 @@ def comparable(report):
     if isinstance(report, list):
         return [comparable(v) for v in report]
     return report
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """A test skipped for a missing dependency makes the whole run a skip (exit 77, CTest's
+    SKIP_RETURN_CODE for python.pytest), never a pass; -rs names what was skipped and why."""
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    if exitstatus == 0 and reporter is not None and reporter.stats.get("skipped"):
+        session.exitstatus = 77

@@ -1,4 +1,4 @@
-"""Every keyword argument refuses what is not a value of its kind (issue 23): None where None
+"""Every keyword argument refuses what is not a value of its kind: None where None
 does not mean "not given", bytes for str, NUL characters, arrays for numbers, bool for
 numbers, integers beyond int, NaN and infinity, each with a message naming the keyword and
 what it accepts (the command line's message where the library checks the range)."""

@@ -1,4 +1,4 @@
-"""Out of memory is a MemoryError, not the end of the interpreter (issue 23): a failed
+"""Out of memory is a MemoryError, not the end of the interpreter: a failed
 allocation on a thread of an OpenMP parallel region called std::terminate."""
 import os
 import pathlib

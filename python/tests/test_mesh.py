@@ -91,7 +91,7 @@ def test_keep_fragments_keeps_the_pieces_the_box_cuts_off():
 
 
 def test_a_solid_in_pieces_is_refused_not_trimmed():
-    # Issue 23: a ball beside the slab is 1.4 % of the box; removing it would move the volume
+    # A ball beside the slab is 1.4 % of the box; removing it would move the volume
     # fraction past its tolerance without a word, so mesh() raises unless keep_fragments.
     n = 16
     x = (np.arange(n) + 0.5) / n
@@ -122,7 +122,7 @@ def test_save_writes_the_file_json_of_cmcsurf_mesh(gyroid_result, gyroid_cli, tm
 
 
 def test_a_member_of_another_topology_is_refused():
-    # Issue 23: P at volume fraction 0.2 on 32^3 ends on separate balls (Euler characteristic
+    # P at volume fraction 0.2 on 32^3 ends on separate balls (Euler characteristic
     # 1) where its family, the nodal P it starts from, is the genus-3 network (-2).
     balls = cmcsurf.run("P", 0.2, 32, threads=1)
     assert balls.report["topology_changed"] and balls.report["euler_characteristic_start"] == -2

@@ -14,8 +14,8 @@ def test_sweep_equals_cli_sweep(tmp_path):
                                    continuation=True, threads=1, progress=steps.append)
     out = tmp_path / "sweep"
     run_cli("sweep", "--surface", "P,D", "--volume-fractions", "0.45,0.5", "--grid", "16",
-            "--epsilon", "0.03", "--continuation", "--threads", "1", "--quiet", "--no-plot", *page_flags(),
-            "--out", str(out))
+            "--epsilon", "0.03", "--continuation", "--threads", "1", "--quiet", "--no-plot",
+            *page_flags(), "--out", str(out))
     names = [r.report["member"] for r in results]
     assert names == ["P_0.45", "P_0.50", "D_0.45", "D_0.50"]
     assert results[1].report["started_from"] == "P_0.45"

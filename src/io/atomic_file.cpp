@@ -79,12 +79,13 @@ void AtomicWriter::finish_writing() {
     const int err = failed_earlier ? earlier_err : (write_err ? write_err : errno);
     std::string why = err ? std::strerror(err) : "stream error";
     std::error_code ec;
-    const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+    const auto parent =
+        target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
     const std::filesystem::space_info space = std::filesystem::space(parent, ec);
     if (!ec && space.available < (std::uintmax_t(1) << 20))
       why += fmt::format(" ({} bytes free on that device)", space.available);
-    throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): {}", target_.string(),
-                                         temp_.string(), why));
+    throw std::runtime_error(fmt::format("error writing '{}' (temporary '{}'): {}",
+                                         target_.string(), temp_.string(), why));
   }
   // The data reaches the disk before the name does: after a power cut the target is either
   // the old file or the whole new one. (A full disk or an I/O error can surface only here.)
@@ -95,7 +96,8 @@ void AtomicWriter::finish_writing() {
 }
 
 void AtomicWriter::commit() {
-  if (committed_) throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
+  if (committed_)
+    throw std::logic_error("AtomicWriter::commit called twice for " + target_.string());
   finish_writing();
   if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
     const int err = errno;
@@ -103,7 +105,8 @@ void AtomicWriter::commit() {
                                          target_.string(), std::strerror(err)));
   }
   committed_ = true;
-  const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+  const auto parent =
+      target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
   // EINVAL: a file system that cannot sync directories; the rename is done either way.
   if (const int err = sync_path(parent, true); err != 0 && err != EINVAL)
     throw std::runtime_error(fmt::format("'{}' is in place, but its directory could not be "
@@ -127,8 +130,8 @@ int remove_stale_temporaries(const std::filesystem::path& dir) {
     if (!std::regex_match(name, m, temporary) || !it->is_regular_file(ec)) continue;
     const long long pid = std::stoll(m[1].str().substr(0, 18));
     const bool mine = pid == static_cast<long long>(::getpid());
-    const bool gone =
-        pid <= 0 || pid > 0x7fffffffLL || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH);
+    const bool gone = pid <= 0 || pid > 0x7fffffffLL ||
+                      (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH);
     std::error_code rm;
     if ((mine || gone) && std::filesystem::remove(it->path(), rm)) ++removed;
   }
@@ -140,8 +143,8 @@ void ensure_directory(const std::filesystem::path& dir) {
   const auto status = std::filesystem::status(dir, ec);
   if (std::filesystem::is_directory(status)) return;
   if (std::filesystem::exists(status))
-    throw std::runtime_error(
-        fmt::format("cannot create directory '{}': it exists and is not a directory", dir.string()));
+    throw std::runtime_error(fmt::format(
+        "cannot create directory '{}': it exists and is not a directory", dir.string()));
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw std::runtime_error(

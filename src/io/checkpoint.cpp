@@ -299,7 +299,8 @@ void check_tiling(const PieceList& list, int n, const Error& error) {
     std::array<std::size_t, 3> index{};
     for (int a = 0; a < 3; ++a) {
       const auto& c = cuts[a];
-      const std::size_t lo = std::size_t(std::lower_bound(c.begin(), c.end(), p.offset[a]) - c.begin());
+      const std::size_t lo =
+          std::size_t(std::lower_bound(c.begin(), c.end(), p.offset[a]) - c.begin());
       if (lo + 1 >= c.size() || c[lo + 1] != p.offset[a] + p.size[a])
         throw error(fmt::format("piece {} spans more than one of the pieces' intervals along "
                                 "axis {}; the pieces do not form a grid of boxes",
@@ -372,11 +373,11 @@ void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uin
                             "wants format {}, id {:016x})",
                             format, piece_id, kCheckpointPiecesFormat, id));
   if (piece_n != n || offset != p.offset || size != p.size || count != expected.size())
-    throw error(fmt::format("it holds {} field(s) on offset {} {} {}, size {} {} {} of a {}^3 grid; "
-                            "the header wants {} on offset {} {} {}, size {} {} {} of {}^3",
-                            count, offset[0], offset[1], offset[2], size[0], size[1], size[2],
-                            piece_n, expected.size(), p.offset[0], p.offset[1], p.offset[2],
-                            p.size[0], p.size[1], p.size[2], n));
+    throw error(fmt::format(
+        "it holds {} field(s) on offset {} {} {}, size {} {} {} of a {}^3 grid; "
+        "the header wants {} on offset {} {} {}, size {} {} {} of {}^3",
+        count, offset[0], offset[1], offset[2], size[0], size[1], size[2], piece_n, expected.size(),
+        p.offset[0], p.offset[1], p.offset[2], p.size[0], p.size[1], p.size[2], n));
   std::vector<double> row(std::size_t(p.size[0]), 0.0);
   for (std::size_t f = 0; f < expected.size(); ++f)
     for (int k = 0; k < p.size[2]; ++k)
@@ -415,7 +416,8 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
   in.read(magic.data(), magic.size());
   if (magic != kMagic) throw error("not a cmcsurf checkpoint (no CMCSCKPT signature)");
   const auto format = get<std::uint32_t>(in);
-  if (format != std::uint32_t(kCheckpointFormat) && format != std::uint32_t(kCheckpointPiecesFormat))
+  if (format != std::uint32_t(kCheckpointFormat) &&
+      format != std::uint32_t(kCheckpointPiecesFormat))
     throw error(fmt::format("checkpoint format {}; this cmcsurf reads formats {} and {}", format,
                             kCheckpointFormat, kCheckpointPiecesFormat));
   const bool pieces = format == std::uint32_t(kCheckpointPiecesFormat);

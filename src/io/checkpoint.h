@@ -34,8 +34,9 @@
 namespace cmcsurf {
 
 inline constexpr const char* kCheckpointFileName = "checkpoint.bin";
-inline constexpr int kCheckpointFormat = 4;  // 2: build and outputs in the header; 3: volume_fraction
-                                            // per step; 4: euler_characteristic in the measures
+// 2: build and outputs in the header; 3: volume_fraction per step; 4: euler_characteristic in
+// the measures.
+inline constexpr int kCheckpointFormat = 4;
 // Format 4's header with the fields in one piece file per process (the layout above).
 inline constexpr int kCheckpointPiecesFormat = 5;
 
@@ -91,7 +92,8 @@ struct CheckpointReadOptions {
 // Reads and checks everything (sizes against the file's before allocating, both checksums,
 // finite fields, the parameters' ranges, a cursor on one of the run's grids; format 5: the
 // pieces' list and tiling, and each piece read: its size, id, box, CRC-32 against its own and
-// the header's). Throws CheckpointError. Whether a given run can continue it: resume_problem (pipeline/cmc.h).
+// the header's). Throws CheckpointError. Whether a given run can continue it: resume_problem
+// (pipeline/cmc.h).
 CheckpointFile read_checkpoint(const std::filesystem::path& path,
                                const CheckpointReadOptions& options = {});
 // The same from bytes in memory (`name` stands for the file in messages); for fuzzing. Format

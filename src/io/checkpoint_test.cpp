@@ -176,7 +176,8 @@ TEST(Checkpoint, ReadsFromAFileAndNamesIt) {
     EXPECT_NE(std::string(e.what()).find("missing.bin"), std::string::npos);
   }
   std::ofstream(tmp / "c.bin", std::ios::binary)
-      .write(reinterpret_cast<const char*>(sample().bytes.data()), std::streamsize(sample().bytes.size()));
+      .write(reinterpret_cast<const char*>(sample().bytes.data()),
+             std::streamsize(sample().bytes.size()));
   EXPECT_EQ(read_checkpoint(tmp / "c.bin").checkpoint.step, 11);
 }
 

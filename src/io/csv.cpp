@@ -29,8 +29,9 @@ CsvWriter::CsvWriter(std::vector<std::string> header) : header_(std::move(header
 
 void CsvWriter::add_row(const std::vector<CsvCell>& row) {
   if (row.size() != header_.size())
-    throw std::invalid_argument(fmt::format("CsvWriter: row {} has {} cells, the header has {} columns",
-                                            rows_.size() + 1, row.size(), header_.size()));
+    throw std::invalid_argument(
+        fmt::format("CsvWriter: row {} has {} cells, the header has {} columns", rows_.size() + 1,
+                    row.size(), header_.size()));
   rows_.push_back(row);
 }
 
@@ -49,7 +50,8 @@ std::string CsvWriter::str() const {
   };
   append_line(header_, [](const std::string& s) { return csv_quote(s); });
   for (const auto& row : rows_)
-    append_line(row, [](const CsvCell& c) { return c.is_string() ? csv_quote(c.text()) : c.text(); });
+    append_line(row,
+                [](const CsvCell& c) { return c.is_string() ? csv_quote(c.text()) : c.text(); });
   return out;
 }
 

@@ -1,7 +1,7 @@
-// A command's outputs may not overwrite its own inputs (issue 23): files are compared by
-// identity (device and inode, std::filesystem::equivalent), not by name, so a symlink, a
-// hard link or another spelling of a path ("./x", "d/../x") is caught. Used by `mesh`,
-// `scaffold` and `graded` before any work.
+// A command's outputs may not overwrite its own inputs (it would read what it is writing):
+// files are compared by identity (device and inode, std::filesystem::equivalent), not by
+// name, so a symlink, a hard link or another spelling of a path ("./x", "d/../x") is caught.
+// Used by `mesh`, `scaffold` and `graded` before any work.
 #pragma once
 
 #include <filesystem>

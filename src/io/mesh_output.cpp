@@ -29,7 +29,8 @@ std::array<int, 3> parse_tiles(const std::string& s, int n) {
   for (;;) {
     const std::size_t x = s.find('x', pos);
     const std::string part = s.substr(pos, x == std::string::npos ? std::string::npos : x - pos);
-    if (part.empty() || part.size() > 3 || part.find_first_not_of("0123456789") != std::string::npos)
+    if (part.empty() || part.size() > 3 ||
+        part.find_first_not_of("0123456789") != std::string::npos)
       throw bad();
     parts.push_back(std::stoi(part));
     if (x == std::string::npos) break;

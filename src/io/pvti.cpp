@@ -135,11 +135,13 @@ PvtiFile open_pvti(const fs::path& path, int max_n) {
                                : fmt::format("{}={}", kVtiLayoutKey, layout->second),
                            kVtiLayoutKey, kVtiPeriodicLayout));
   f.n = int(f.header.whole_extent[1]);
-  if (f.n > max_n) fail(path, fmt::format("N = {} exceeds the limit {} of this command", f.n, max_n));
+  if (f.n > max_n)
+    fail(path, fmt::format("N = {} exceeds the limit {} of this command", f.n, max_n));
   for (std::size_t q = 0; q < f.header.pieces.size(); ++q) {
     const PvtiPiece& p = f.header.pieces[q];
     for (int a = 0; a < 3; ++a)
-      if (p.extent[2 * a] < 0 || p.extent[2 * a + 1] > f.n || p.extent[2 * a + 1] <= p.extent[2 * a])
+      if (p.extent[2 * a] < 0 || p.extent[2 * a + 1] > f.n ||
+          p.extent[2 * a + 1] <= p.extent[2 * a])
         fail(path, fmt::format("piece {} ('{}') has Extent=\"{} {} {} {} {} {}\"; each piece lies "
                                "inside the WholeExtent \"0 {} 0 {} 0 {}\" with at least one cell "
                                "(two points) per axis",
@@ -157,7 +159,8 @@ PvtiFile open_pvti(const fs::path& path, int max_n) {
 }
 
 // The arrays of f that a read wants (all, or `only`), with their types.
-std::vector<std::pair<std::string, bool>> wanted_arrays(const PvtiFile& f, const std::string& only) {
+std::vector<std::pair<std::string, bool>> wanted_arrays(const PvtiFile& f,
+                                                        const std::string& only) {
   if (only.empty()) return f.header.arrays;
   std::string names;
   for (const auto& a : f.header.arrays) {
@@ -293,7 +296,8 @@ void write_pvti(const fs::path& path, const std::vector<VtiArray>& arrays, bool 
     error = error_of([&] {
       std::vector<PvtiPiece> pieces;
       for (int r = 0; r < ranks; ++r) {
-        const Block b = d ? d->block_of(r, first.n()) : Block{first.n(), first.size(), first.offset()};
+        const Block b =
+            d ? d->block_of(r, first.n()) : Block{first.n(), first.size(), first.offset()};
         PvtiPiece p;
         for (int a = 0; a < 3; ++a) {
           p.extent[2 * a] = b.offset[a];
@@ -327,8 +331,9 @@ void remove_pvti(const fs::path& path) {
   if (!fs::is_directory(dir, ec)) return;
   std::vector<fs::path> pieces;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (std::error_code kind; std::regex_match(it->path().filename().string(), piece_file_pattern()) &&
-                              it->is_regular_file(kind))
+    if (std::error_code kind;
+        std::regex_match(it->path().filename().string(), piece_file_pattern()) &&
+        it->is_regular_file(kind))
       pieces.push_back(it->path());
   if (ec)
     throw std::runtime_error(fmt::format("cannot list '{}': {}", dir.string(), ec.message()));
@@ -339,7 +344,8 @@ void remove_pvti(const fs::path& path) {
 VtiData read_pvti(const fs::path& path, const VtiReadOptions& options) {
   const PvtiFile f = open_pvti(path, options.max_n);
   if (options.ghost < 0 || options.ghost > f.n)
-    throw std::invalid_argument(fmt::format("read_pvti: ghost width {} for N={}", options.ghost, f.n));
+    throw std::invalid_argument(
+        fmt::format("read_pvti: ghost width {} for N={}", options.ghost, f.n));
   const auto arrays = wanted_arrays(f, options.only);
   check_piece_files(f, arrays);
   const Box whole{{0, 0, 0}, {f.n, f.n, f.n}};

@@ -45,10 +45,11 @@ double write_run_field_pieces(const std::filesystem::path& dir, const RunParams&
 // A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
 // writes (the surface mesh, preview.png, report.html; it gets the report to be written), and
 // report.json (run_folder_report) last, since it marks a complete run: a failure before it
-// leaves no report.json. The folder must be the caller's (io/output_folder.h). An earlier run's outputs in dir are removed first (clear_run_outputs). phi is
-// the whole final field, or an empty Field when the caller wrote the field file before (a
-// decomposed run: every process writes its piece of field.pvti, io/pvti.h, taking
-// field_seconds, which write_seconds includes). Returns the report.
+// leaves no report.json. The folder must be the caller's (io/output_folder.h). An earlier run's
+// outputs in dir are removed first (clear_run_outputs). phi is the whole final field, or an empty
+// Field when the caller wrote the field file before (a decomposed run: every process writes its
+// piece of field.pvti, io/pvti.h, taking field_seconds, which write_seconds includes). Returns the
+// report.
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
                                 const RunResult& r, const Field& phi, const CmcQuality& quality,
                                 int threads, bool float32, const nlohmann::json& extra = {},

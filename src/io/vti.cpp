@@ -58,7 +58,8 @@ std::string xml_unescape(std::string_view s) {
       continue;
     }
     const std::size_t semi = s.find(';', i);
-    const std::string_view ent = semi == std::string_view::npos ? "" : s.substr(i + 1, semi - i - 1);
+    const std::string_view ent =
+        semi == std::string_view::npos ? "" : s.substr(i + 1, semi - i - 1);
     char c = 0;
     if (ent == "amp") c = '&';
     else if (ent == "lt") c = '<';
@@ -251,9 +252,11 @@ class XmlHeaderScanner {
     while (true) {
       if (in_appended_) {
         while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
-        if (pos >= text.size()) return need_more(at_eof, "the file ends before the '_' marker of <AppendedData>");
+        if (pos >= text.size())
+          return need_more(at_eof, "the file ends before the '_' marker of <AppendedData>");
         if (text[pos] != '_')
-          fail(fmt::format("expected the '_' marker at the start of <AppendedData>, found '{}'", text[pos]));
+          fail(fmt::format("expected the '_' marker at the start of <AppendedData>, found '{}'",
+                           text[pos]));
         data_start_ = pos + 1;
         return true;
       }
@@ -265,20 +268,23 @@ class XmlHeaderScanner {
       const std::string_view rest = text.substr(lt);
       if (rest.starts_with("<!--")) {
         const std::size_t end = text.find("-->", lt + 4);
-        if (end == std::string_view::npos) return need_more(at_eof, "the file ends inside an XML comment");
+        if (end == std::string_view::npos)
+          return need_more(at_eof, "the file ends inside an XML comment");
         on_comment(text.substr(lt + 4, end - lt - 4));
         pos = end + 3;
         continue;
       }
       if (rest.starts_with("<?") || rest.starts_with("<!")) {
         const std::size_t end = text.find('>', lt);
-        if (end == std::string_view::npos) return need_more(at_eof, "the file ends inside the XML header");
+        if (end == std::string_view::npos)
+          return need_more(at_eof, "the file ends inside the XML header");
         pos = end + 1;
         continue;
       }
       Tag tag;
       const std::size_t end = scan_tag(text, lt, &tag);
-      if (end == std::string_view::npos) return need_more(at_eof, "the file ends inside the XML header");
+      if (end == std::string_view::npos)
+        return need_more(at_eof, "the file ends inside the XML header");
       pos = end;
       on_tag(tag);
     }
@@ -360,7 +366,8 @@ class XmlHeaderScanner {
       if (p >= t.size()) return std::string_view::npos;
       const char quote = t[p];
       if (quote != '"' && quote != '\'')
-        fail(fmt::format("unquoted value of attribute {} in <{}> near byte {}", attr, tag->name, p));
+        fail(
+            fmt::format("unquoted value of attribute {} in <{}> near byte {}", attr, tag->name, p));
       const std::size_t close = t.find(quote, p + 1);
       if (close == std::string_view::npos) return std::string_view::npos;
       tag->attrs[attr] = xml_unescape(t.substr(p + 1, close - p - 1));
@@ -376,8 +383,9 @@ class XmlHeaderScanner {
     while (line_begin != std::string_view::npos) {
       ++line_begin;
       std::size_t line_end = body.find('\n', line_begin);
-      std::string_view line = body.substr(
-          line_begin, line_end == std::string_view::npos ? std::string_view::npos : line_end - line_begin);
+      std::string_view line =
+          body.substr(line_begin, line_end == std::string_view::npos ? std::string_view::npos
+                                                                     : line_end - line_begin);
       std::string key, value;
       if (parse_metadata_line(line, &key, &value)) metadata_[key] = value;
       line_begin = line_end;
@@ -437,7 +445,9 @@ class HeaderParser final : public XmlHeaderScanner {
     pieces_ = 0;
   }
 
-  const char* missing_end() const override { return "no <AppendedData encoding=\"raw\"> section found"; }
+  const char* missing_end() const override {
+    return "no <AppendedData encoding=\"raw\"> section found";
+  }
 
   void on_element(const Tag& tag, const std::string& parent) override {
     if (tag.name == "VTKFile") header_bytes_ = check_vtkfile(tag);
@@ -505,8 +515,8 @@ class HeaderParser final : public XmlHeaderScanner {
     if (!name_attr || name_attr->empty()) fail("a PointData DataArray has no Name");
     const std::string* type = attr(tag, "type");
     if (!type || (*type != "Float32" && *type != "Float64"))
-      fail(fmt::format("DataArray '{}' has type=\"{}\"; only Float32 or Float64 are supported", name,
-                       type ? *type : "(missing)"));
+      fail(fmt::format("DataArray '{}' has type=\"{}\"; only Float32 or Float64 are supported",
+                       name, type ? *type : "(missing)"));
     if (const std::string* nc = attr(tag, "NumberOfComponents"); nc && *nc != "1")
       fail(fmt::format("DataArray '{}' has NumberOfComponents=\"{}\"; only scalar arrays (1) are "
                        "supported", name, *nc));
@@ -628,7 +638,8 @@ class PvtiParser final : public XmlHeaderScanner {
 template <class T>
 bool read_values(std::istream& in, Field& f, const std::array<int, 3>& m,
                  const std::array<int, 3>& cells, const std::array<long long, 3>& first,
-                 std::vector<char>& bytes, const std::function<void(double, const std::array<long long, 3>&)>& non_finite) {
+                 std::vector<char>& bytes,
+                 const std::function<void(double, const std::array<long long, 3>&)>& non_finite) {
   const std::size_t row_bytes = std::size_t(m[0]) * sizeof(T);
   bytes.resize(row_bytes * std::size_t(m[1]));
   const auto& o = f.offset();
@@ -867,8 +878,9 @@ std::pair<std::uint64_t, std::string> check_byte_ranges(const HeaderParser& pars
                               a.name, a.offset, file_size));
     const auto [begin, end] = byte_range(parser, a, m);
     if (begin + hb > file_size || end > file_size)
-      parser.fail(fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
-                              a.name, begin, end, file_size));
+      parser.fail(
+          fmt::format("file truncated: array '{}' needs bytes {}..{} but the file has {} bytes",
+                      a.name, begin, end, file_size));
     ranges.push_back({begin, end, a.name});
   }
   std::sort(ranges.begin(), ranges.end(),

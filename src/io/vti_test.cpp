@@ -54,7 +54,8 @@ std::vector<double> numbers(const std::string& s) {
 }
 
 // Expects read_vti(path) to throw with every fragment in the message.
-void expect_read_error(const std::filesystem::path& path, const std::vector<std::string>& fragments) {
+void expect_read_error(const std::filesystem::path& path,
+                       const std::vector<std::string>& fragments) {
   try {
     read_vti(path);
     ADD_FAILURE() << "read_vti accepted " << path;
@@ -90,7 +91,8 @@ TEST(IoVti, Float64RoundTripIsBitIdentical) {
     const Field& back = data.arrays.at("phi");
     EXPECT_EQ(back.ghost(), ghost);
     int mismatches = 0;
-    for_each_cell(n, [&](int i, int j, int k) { mismatches += !bit_equal(back(i, j, k), phi(i, j, k)); });
+    for_each_cell(
+        n, [&](int i, int j, int k) { mismatches += !bit_equal(back(i, j, k), phi(i, j, k)); });
     EXPECT_EQ(mismatches, 0);
     if (ghost > 0) {  // halo filled by the periodic wrap
       EXPECT_TRUE(bit_equal(back(-1, 3, 4), phi(n - 1, 3, 4)));
@@ -264,8 +266,9 @@ TEST(IoVti, RejectsOtherEncodings) {
                                        "encoding=\"raw\"", ""));
   expect_read_error(path, {"BigEndian"});
 
-  write_file_atomic(path, handmade_vti(le, "0 1 0 1 0 1", "type=\"Int32\" format=\"appended\" offset=\"0\"",
-                                       "encoding=\"raw\"", ""));
+  write_file_atomic(
+      path, handmade_vti(le, "0 1 0 1 0 1", "type=\"Int32\" format=\"appended\" offset=\"0\"",
+                         "encoding=\"raw\"", ""));
   expect_read_error(path, {"type=\"Int32\"", "Float32 or Float64"});
 
   write_file_atomic(path, "<?xml version=\"1.0\"?>\n<VTKFile type=\"RectilinearGrid\">\n");
@@ -280,9 +283,10 @@ TEST(IoVti, WrongByteCountIsReported) {
   std::string payload(8 + 8 * 8, '\0');
   const std::uint64_t wrong = 7 * 8;
   std::memcpy(payload.data(), &wrong, 8);
-  write_file_atomic(path, handmade_vti("byte_order=\"LittleEndian\" header_type=\"UInt64\"",
-                                       "0 1 0 1 0 1", "type=\"Float64\" format=\"appended\" offset=\"0\"",
-                                       "encoding=\"raw\"", payload));
+  write_file_atomic(
+      path, handmade_vti("byte_order=\"LittleEndian\" header_type=\"UInt64\"", "0 1 0 1 0 1",
+                         "type=\"Float64\" format=\"appended\" offset=\"0\"", "encoding=\"raw\"",
+                         payload));
   expect_read_error(path, {"byte count of 56", "64 bytes"});
 }
 
@@ -326,7 +330,7 @@ TEST(IoVti, WriterRejectsBadArguments) {
 namespace cmcsurf {
 namespace {
 
-// Hostile and damaged inputs (issue 14): refused with the file and the problem named, before
+// Hostile and damaged inputs: refused with the file and the problem named, before
 // anything large is allocated.
 TEST(IoVtiBadData, NonFiniteValuesAreRefused) {
   TempDir tmp;
@@ -348,7 +352,8 @@ TEST(IoVtiBadData, ArraysSharingBytesAreRefused) {
   const auto path = tmp / "overlap.vti";
   write_vti(path, {{"phi", &phi}, {"mu", &mu}});
   std::string text = slurp(path);
-  const std::string second = "offset=\"" + std::to_string(8 + 8 * (n + 1) * (n + 1) * (n + 1)) + "\"";
+  const std::string second =
+      "offset=\"" + std::to_string(8 + 8 * (n + 1) * (n + 1) * (n + 1)) + "\"";
   const std::size_t at = text.find(second);
   ASSERT_NE(at, std::string::npos);
   text.replace(at, second.size(), "offset=\"0\"" + std::string(second.size() - 10, ' '));
@@ -378,7 +383,8 @@ TEST(IoVtiBadData, SizeLimitAndOneArrayAreCheckedBeforeReading) {
     read_vti(path, small);
     ADD_FAILURE() << "accepted N = 16 over a limit of 8";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("N = 16 exceeds the limit 8"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("N = 16 exceeds the limit 8"), std::string::npos)
+        << e.what();
   }
   VtiReadOptions only_phi;
   only_phi.only = "phi";

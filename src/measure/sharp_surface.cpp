@@ -27,7 +27,8 @@ template <class Emit>
 inline void cube_triangles(const double s[8], Emit&& emit) {
   auto edge_point = [&](int a, int b, double p[3]) {
     const double t = s[a] / (s[a] - s[b]);
-    for (int c = 0; c < 3; ++c) p[c] = kCubeCorner[a][c] + t * (kCubeCorner[b][c] - kCubeCorner[a][c]);
+    for (int c = 0; c < 3; ++c)
+      p[c] = kCubeCorner[a][c] + t * (kCubeCorner[b][c] - kCubeCorner[a][c]);
   };
   auto triangle = [&](const double* p, const double* q, const double* r) {
     const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
@@ -206,7 +207,9 @@ LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSam
   if (!psi.whole()) throw std::invalid_argument("level_set_surface_ref: needs the whole grid");
   const int n = psi.n();
   const double h = psi.h();
-  auto at = [&](int i, int j, int k) { return psi((i % n + n) % n, (j % n + n) % n, (k % n + n) % n); };
+  auto at = [&](int i, int j, int k) {
+    return psi((i % n + n) % n, (j % n + n) % n, (k % n + n) % n);
+  };
   // H = -div(grad psi / |grad psi|) / 2 written out with plain central differences.
   auto mean_curvature_at = [&](int i, int j, int k) {
     const double dx = (at(i + 1, j, k) - at(i - 1, j, k)) / (2 * h);

@@ -52,7 +52,8 @@ struct LevelSetSurface {
 // Reads psi's interior and two ghost layers (halo current); works on a decomposed block, with
 // the sums reduced over the processes (samples stay per process). samples, if given, receive
 // one entry per triangle of this process, in a fixed order.
-LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>* samples = nullptr);
+LevelSetSurface level_set_surface(const Field& psi,
+                                  std::vector<CurvatureSample>* samples = nullptr);
 // Plain twin: whole grid, periodic index wrap (no halo), serial.
 LevelSetSurface level_set_surface_ref(const Field& psi,
                                       std::vector<CurvatureSample>* samples = nullptr);

@@ -120,7 +120,8 @@ TEST(SharpSurface, ReferenceTwinGivesTheSameSamples) {
 
 TEST(SharpSurface, TanhProfileInverseIsTheScaledDistance) {
   const double eps = 0.02;
-  const Field phi = sample(32, [=](double x, double, double) { return profile(0.1 * std::sin(2 * kPi * x), eps); });
+  const Field phi = sample(
+      32, [=](double x, double, double) { return profile(0.1 * std::sin(2 * kPi * x), eps); });
   Field psi = Field::like(phi, 2);
   tanh_profile_inverse(phi, psi);
   for (int i = 0; i < 32; ++i) {

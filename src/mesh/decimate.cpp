@@ -45,7 +45,8 @@ std::size_t mesh_shell_count(const TriMesh& m) {
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
   std::size_t shells = 0;
-  for (std::size_t v = 0; v < parent.size(); ++v) shells += used[v] && find_root(parent, std::uint32_t(v)) == v;
+  for (std::size_t v = 0; v < parent.size(); ++v)
+    shells += used[v] && find_root(parent, std::uint32_t(v)) == v;
   return shells;
 }
 
@@ -86,10 +87,12 @@ class ModSampledHausdorffT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     // sheet's result by 0.2 % of its triangles, at more cost).
     for (const auto e : mesh_.edges()) {
       const auto h = mesh_.halfedge_handle(e, 0);
-      const auto f = mesh_.face_handle(h).is_valid() ? mesh_.face_handle(h) : mesh_.opposite_face_handle(h);
+      const auto f =
+          mesh_.face_handle(h).is_valid() ? mesh_.face_handle(h) : mesh_.opposite_face_handle(h);
       const Vec3 a = to_vec3(mesh_.point(mesh_.from_vertex_handle(h)));
       const Vec3 b = to_vec3(mesh_.point(mesh_.to_vertex_handle(h)));
-      mesh_.property(points_, f).push_back({0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])});
+      mesh_.property(points_, f)
+          .push_back({0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])});
     }
   }
 
@@ -162,18 +165,25 @@ class ModSampledHausdorffT : public OpenMesh::Decimater::ModBaseT<MeshT> {
 double max_distance_to(const TriMesh& m, const std::vector<Vec3>& points) {
   const MeshStats st = analyze_mesh(m);
   double mean_edge = 0.0;
-  for (const auto& t : m.triangles) mean_edge += std::sqrt(dot(sub(m.vertices[t[1]], m.vertices[t[0]]), sub(m.vertices[t[1]], m.vertices[t[0]])));
+  for (const auto& t : m.triangles)
+    mean_edge += std::sqrt(
+        dot(sub(m.vertices[t[1]], m.vertices[t[0]]), sub(m.vertices[t[1]], m.vertices[t[0]])));
   mean_edge = std::max(mean_edge / std::max<std::size_t>(1, m.triangles.size()), 1e-12);
   const double cell = 2.0 * mean_edge;
   std::array<int, 3> dims;
-  for (int c = 0; c < 3; ++c) dims[c] = std::max(1, int(std::ceil((st.max[c] - st.min[c]) / cell)) + 1);
-  auto bin = [&](const Vec3& p, int c) { return std::clamp(int((p[c] - st.min[c]) / cell), 0, dims[c] - 1); };
+  for (int c = 0; c < 3; ++c)
+    dims[c] = std::max(1, int(std::ceil((st.max[c] - st.min[c]) / cell)) + 1);
+  auto bin = [&](const Vec3& p, int c) {
+    return std::clamp(int((p[c] - st.min[c]) / cell), 0, dims[c] - 1);
+  };
   std::vector<std::vector<std::uint32_t>> bins(std::size_t(dims[0]) * dims[1] * dims[2]);
   auto id = [&](int i, int j, int k) { return (std::size_t(k) * dims[1] + j) * dims[0] + i; };
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     std::array<int, 3> lo{dims[0], dims[1], dims[2]}, hi{-1, -1, -1};
     for (std::uint32_t v : m.triangles[t])
-      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], bin(m.vertices[v], c)), hi[c] = std::max(hi[c], bin(m.vertices[v], c));
+      for (int c = 0; c < 3; ++c)
+        lo[c] = std::min(lo[c], bin(m.vertices[v], c)),
+        hi[c] = std::max(hi[c], bin(m.vertices[v], c));
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int i = lo[0]; i <= hi[0]; ++i) bins[id(i, j, k)].push_back(std::uint32_t(t));
@@ -198,11 +208,13 @@ double max_distance_to(const TriMesh& m, const std::vector<Vec3>& points) {
       for (int k = b[2] - ring; k <= b[2] + ring; ++k)
         for (int j = b[1] - ring; j <= b[1] + ring; ++j)
           for (int i = b[0] - ring; i <= b[0] + ring; ++i) {
-            if (std::max({std::abs(i - b[0]), std::abs(j - b[1]), std::abs(k - b[2])}) != ring) continue;
+            if (std::max({std::abs(i - b[0]), std::abs(j - b[1]), std::abs(k - b[2])}) != ring)
+              continue;
             if (i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] || k >= dims[2]) continue;
             for (std::uint32_t t : bins[id(i, j, k)]) {
               const auto& v = m.triangles[t];
-              best = std::min(best, point_triangle_distance2(p, m.vertices[v[0]], m.vertices[v[1]], m.vertices[v[2]]));
+              best = std::min(best, point_triangle_distance2(p, m.vertices[v[0]], m.vertices[v[1]],
+                                                             m.vertices[v[2]]));
             }
           }
     }
@@ -248,7 +260,8 @@ void mark_crease_vertices(const TriMesh& m, double degrees, std::vector<std::uin
   std::vector<Vec3> normal(m.triangles.size());
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     const auto& v = m.triangles[t];
-    const Vec3 n = cross(sub(m.vertices[v[1]], m.vertices[v[0]]), sub(m.vertices[v[2]], m.vertices[v[0]]));
+    const Vec3 n =
+        cross(sub(m.vertices[v[1]], m.vertices[v[0]]), sub(m.vertices[v[2]], m.vertices[v[0]]));
     const double len = std::sqrt(dot(n, n));
     normal[t] = len > 0 ? Vec3{n[0] / len, n[1] / len, n[2] / len} : Vec3{0, 0, 0};
   }
@@ -289,7 +302,8 @@ Decimated decimate_solid(const TriMesh& m, const DecimateParams& p) {
   d.mesh = m;
   d.triangles_after = m.triangles.size();
   const MeshStats box = analyze_mesh(m);
-  const double extent = std::max({box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]});
+  const double extent =
+      std::max({box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]});
   const double eps = 1e-9 * extent;
   const double volume = box.volume;
   const std::size_t shells = mesh_shell_count(m);

@@ -38,7 +38,8 @@ struct Decimated {
   double module_tolerance = 0.0;  // the sampled Hausdorff module's bound in the accepted attempt
   double volume_change = 0.0;  // relative
   int attempts = 0;            // 0: nothing to do (the input is within the budget)
-  bool applied = false;        // false: no attempt passed the checks, or none was needed; mesh is the input
+  // false: no attempt passed the checks, or none was needed; mesh is the input
+  bool applied = false;
   bool within_budget = false;  // triangles_after <= max_triangles (or no budget)
   std::string note;            // why nothing was applied
   double seconds = 0.0;

@@ -22,8 +22,8 @@ TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp&
       throw std::invalid_argument("graded: members must be whole grids, not blocks of a split one");
   for (std::size_t m = 1; m < members.size(); ++m) {
     if (members[m].phi.n() != n)
-      throw std::invalid_argument(fmt::format("graded: members have grids {} and {}; all must match",
-                                              n, members[m].phi.n()));
+      throw std::invalid_argument(fmt::format(
+          "graded: members have grids {} and {}; all must match", n, members[m].phi.n()));
     if (!(members[m].volume_fraction > members[m - 1].volume_fraction))
       throw std::invalid_argument("graded: member volume fractions must increase strictly");
   }
@@ -43,7 +43,8 @@ TiledSampler graded_sampler(std::vector<GradedMember> members, const GradedRamp&
     std::size_t m = 1;
     while (m + 1 < members.size() && members[m].volume_fraction < a) ++m;
     const GradedMember &p = members[m - 1], &q = members[m];
-    const double w = std::clamp((a - p.volume_fraction) / (q.volume_fraction - p.volume_fraction), 0.0, 1.0);
+    const double w =
+        std::clamp((a - p.volume_fraction) / (q.volume_fraction - p.volume_fraction), 0.0, 1.0);
     const int ii = i % n, jj = j % n, kk = k % n;
     return (1.0 - w) * p.phi(ii, jj, kk) + w * q.phi(ii, jj, kk);
   };

@@ -114,7 +114,8 @@ struct Extractor {
   }
 
   TriMesh run() {
-    if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("mesh: lattice needs >= 2 nodes per axis");
+    if (nx < 2 || ny < 2 || nz < 2)
+      throw std::invalid_argument("mesh: lattice needs >= 2 nodes per axis");
     const std::size_t layer_nodes = std::size_t(nx) * ny;
     edges_lo.assign(layer_nodes * 7, kNone);
     edges_hi.assign(layer_nodes * 7, kNone);
@@ -122,7 +123,8 @@ struct Extractor {
     values_hi.resize(layer_nodes);
     const int cubes_x = lat.periodic ? nx : nx - 1, cubes_y = lat.periodic ? ny : ny - 1;
     const int cubes_z = lat.periodic ? nz : nz - 1;
-    if (lat.periodic && lat.pad_outside) throw std::invalid_argument("mesh: a periodic lattice has no pad");
+    if (lat.periodic && lat.pad_outside)
+      throw std::invalid_argument("mesh: a periodic lattice has no pad");
     auto fill = [&](int k, std::vector<double>& v) {
       lat.layer(k, v.data());
       if (!lat.pad_outside) return;

@@ -38,9 +38,12 @@ Field tanh_field(const std::string& surface, int n, double epsilon) {
   for_each_cell(n, [&](int i, int j, int k) {
     const double x = (i + 0.5) * h, y = (j + 0.5) * h, z = (k + 0.5) * h;
     const double f = nodal_value(surface, x, y, z) - 0.5;
-    const double gx = (nodal_value(surface, x + dx, y, z) - nodal_value(surface, x - dx, y, z)) / (2 * dx);
-    const double gy = (nodal_value(surface, x, y + dx, z) - nodal_value(surface, x, y - dx, z)) / (2 * dx);
-    const double gz = (nodal_value(surface, x, y, z + dx) - nodal_value(surface, x, y, z - dx)) / (2 * dx);
+    const double gx =
+        (nodal_value(surface, x + dx, y, z) - nodal_value(surface, x - dx, y, z)) / (2 * dx);
+    const double gy =
+        (nodal_value(surface, x, y + dx, z) - nodal_value(surface, x, y - dx, z)) / (2 * dx);
+    const double gz =
+        (nodal_value(surface, x, y, z + dx) - nodal_value(surface, x, y, z - dx)) / (2 * dx);
     const double d = f / std::max(1e-3, std::sqrt(gx * gx + gy * gy + gz * gz));
     phi(i, j, k) = 0.5 * (1.0 + std::tanh(d / (2.0 * std::sqrt(2.0) * epsilon)));
   });
@@ -153,7 +156,8 @@ TEST(MeshSolid, NetworkVolumeIsVolumeFraction) {
   const double box = 2 * 8.0;
   EXPECT_NEAR(a.report["volume"].get<double>() / box, 0.5, 2e-3);
   EXPECT_NEAR(b.report["volume"].get<double>() / box, 0.5, 2e-3);
-  EXPECT_NEAR((a.report["volume"].get<double>() + b.report["volume"].get<double>()) / box, 1.0, 3e-3);
+  EXPECT_NEAR((a.report["volume"].get<double>() + b.report["volume"].get<double>()) / box, 1.0,
+              3e-3);
   EXPECT_TRUE(a.report["checks"]["closed"].get<bool>());
   EXPECT_TRUE(b.report["checks"]["manifold"].get<bool>());
 
@@ -264,7 +268,7 @@ TEST(MeshGraded, RampIsClosedAndFollowsTarget) {
 
 // Ramp ends given as the members' targets: a member computed for 0.3 measures 0.30006 under the
 // volume constraint's 1e-4, and 0.3 is accepted within that tolerance (held at the member),
-// while an end 2e-4 outside is refused (issue 17, item 5).
+// while an end 2e-4 outside is refused (a ramp end would otherwise fail on round-off).
 TEST(MeshGraded, AcceptsTargetsWithinTheVolumeTolerance) {
   const int n = 8;
   const std::array<int, 3> tiles{1, 1, 2};
@@ -316,7 +320,8 @@ TEST(MeshWriters, FileSizesMatchCounts) {
   write_obj(dir / "a.obj", m);
   std::ifstream obj(dir / "a.obj");
   std::size_t v = 0, f = 0;
-  for (std::string line; std::getline(obj, line);) v += line.rfind("v ", 0) == 0, f += line.rfind("f ", 0) == 0;
+  for (std::string line; std::getline(obj, line);)
+    v += line.rfind("v ", 0) == 0, f += line.rfind("f ", 0) == 0;
   EXPECT_EQ(v, m.vertices.size());
   EXPECT_EQ(f, m.triangles.size());
   write_ply(dir / "a.ply", m);
@@ -340,7 +345,8 @@ TEST(MeshWriters, FileSizesMatchCounts) {
   EXPECT_EQ(r.mesh.triangles[7], m.triangles[7]);
   double max_dx = 0.0;
   for (std::size_t v = 0; v < m.vertices.size(); ++v)
-    for (int c = 0; c < 3; ++c) max_dx = std::max(max_dx, std::abs(r.mesh.vertices[v][c] - m.vertices[v][c]));
+    for (int c = 0; c < 3; ++c)
+      max_dx = std::max(max_dx, std::abs(r.mesh.vertices[v][c] - m.vertices[v][c]));
   EXPECT_LT(max_dx, 2e-6);  // float, printed with 6 decimals (truncated)
   const std::map<std::string, std::string> md(r.metadata.begin(), r.metadata.end());
   EXPECT_EQ(md.at("Title"), "sphere");
@@ -359,7 +365,7 @@ TEST(MeshWriters, FileSizesMatchCounts) {
 namespace cmcsurf {
 namespace {
 
-// Issue 7: the network solid of a relaxed field in volume mode encloses the requested
+// The network solid of a relaxed field in volume mode encloses the requested
 // volume fraction. The mesh is the 1/2 level of the same piecewise-linear (Kuhn) interpolant
 // the sharp measure integrates, so the two differ only by the sharp measure's curvature
 // correction (O(kappa h^2), < 1e-3 here) and the sliver where the surface meets the box faces

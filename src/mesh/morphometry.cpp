@@ -138,7 +138,8 @@ ThicknessStats thickness_stats(const std::vector<double>& thickness,
   s.histogram.assign(bins, 0.0);
   for (int b = 0; b <= bins; ++b) s.histogram_edges.push_back(b * width);
   for (std::size_t c = 0; c < thickness.size(); ++c)
-    if (inside[c]) s.histogram[std::min(bins - 1, int(thickness[c] * voxel / width))] += 1.0 / count;
+    if (inside[c])
+      s.histogram[std::min(bins - 1, int(thickness[c] * voxel / width))] += 1.0 / count;
   return s;
 }
 

@@ -34,7 +34,8 @@ struct ThicknessStats {
 };
 // Over the voxels of the phase, scaled by `voxel` (output units per voxel).
 ThicknessStats thickness_stats(const std::vector<double>& thickness,
-                               const std::vector<std::uint8_t>& inside, double voxel, int bins = 20);
+                               const std::vector<std::uint8_t>& inside, double voxel,
+                               int bins = 20);
 nlohmann::json thickness_json(const ThicknessStats& s, const std::string& units);
 
 }  // namespace cmcsurf

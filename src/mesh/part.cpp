@@ -257,12 +257,13 @@ nlohmann::json part_topology_json(const PartTopology& t, const std::string& unit
           {"fragment_volumes", t.fragment_volumes},
           {"volume_units", units + "^3"},
           {"pore_components", t.pore_components},
-          {"pore_percolates", {{"x", t.pore_percolates[0]}, {"y", t.pore_percolates[1]},
-                               {"z", t.pore_percolates[2]}}},
+          {"pore_percolates",
+           {{"x", t.pore_percolates[0]}, {"y", t.pore_percolates[1]}, {"z", t.pore_percolates[2]}}},
           {"closed_pores", t.closed_pores},
           {"closed_pore_volume", t.closed_pore_volume},
-          {"method", "components of the nodes along the Kuhn tetrahedra's edges (exact for the "
-                     "piecewise-linear solid and pore space); fragment volumes from their own meshes"},
+          {"method",
+           "components of the nodes along the Kuhn tetrahedra's edges (exact for the "
+           "piecewise-linear solid and pore space); fragment volumes from their own meshes"},
           {"seconds", t.seconds}};
 }
 

@@ -24,7 +24,8 @@ Field nodal(const std::string& surface, int n) {
 
 Field from_function(int n, const std::function<double(double, double, double)>& f) {
   Field g(n, 1);
-  for_each_cell(n, [&](int i, int j, int k) { g(i, j, k) = f((i + 0.5) / n, (j + 0.5) / n, (k + 0.5) / n); });
+  for_each_cell(
+      n, [&](int i, int j, int k) { g(i, j, k) = f((i + 0.5) / n, (j + 0.5) / n, (k + 0.5) / n); });
   g.exchange_halo();
   return g;
 }
@@ -154,9 +155,11 @@ TEST(Part, GradedPorosityFollowsTheRamp) {
   const nlohmann::json& profile = part.report["graded"]["profile"];
   ASSERT_EQ(profile.size(), 3u);
   for (std::size_t b = 0; b < profile.size(); ++b) {
-    EXPECT_NEAR(profile[b]["porosity_nodes"].get<double>(), profile[b]["porosity_target"].get<double>(), 0.03);
+    EXPECT_NEAR(profile[b]["porosity_nodes"].get<double>(),
+                profile[b]["porosity_target"].get<double>(), 0.03);
     if (b > 0) {
-      EXPECT_LT(profile[b]["porosity_nodes"].get<double>(), profile[b - 1]["porosity_nodes"].get<double>());
+      EXPECT_LT(profile[b]["porosity_nodes"].get<double>(),
+                profile[b - 1]["porosity_nodes"].get<double>());
     }
   }
   EXPECT_NEAR(part.report["porosity"].get<double>(), 0.5, 0.01);
@@ -168,7 +171,8 @@ TEST(Part, GradedPorosityFollowsTheRamp) {
 // A box as a closed outward mesh (12 triangles).
 TriMesh box_mesh(const Vec3& lo, const Vec3& hi) {
   TriMesh m;
-  for (int c = 0; c < 8; ++c) m.vertices.push_back({c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]});
+  for (int c = 0; c < 8; ++c)
+    m.vertices.push_back({c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]});
   m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   return m;
@@ -214,7 +218,7 @@ TEST(Part, ShapeFillHoldsThePorosityOverTheShape) {
   }
 }
 
-// Issue 23: two overlapping closed cubes in one STL (4^3 each, overlapping in 2^3) are their
+// Two overlapping closed cubes in one STL (4^3 each, overlapping in 2^3) are their
 // union, 120 and not the 128 their triangles sum to: the porosity holds over the union, and
 // a skin follows only the union's surface (no wall along a face inside the other cube).
 TEST(Part, OverlappingShellsFillTheirUnion) {
@@ -243,7 +247,7 @@ TEST(Part, OverlappingShellsFillTheirUnion) {
   }
 }
 
-// Issue 23: a target no level reaches is warned about without blaming a --skin that was not
+// A target no level reaches is warned about without blaming a --skin that was not
 // given (a rod of porosity 0.8 in a 0/1 field cannot be thickened to porosity 0.5).
 TEST(Part, MissedPorosityWarningNamesTheSkinOnlyWithOne) {
   const Field rod = from_function(16, [](double x, double y, double) {
@@ -371,7 +375,8 @@ std::vector<std::uint8_t> voxels(int n, const std::function<bool(double, double,
 // everywhere within one voxel.
 TEST(Morphometry, SlabAndChannelWithinOneVoxel) {
   const int n = 32;
-  const auto slab = voxels(n, [](double, double, double z) { return std::abs(z - 0.5) < 4.0 / 32; });
+  const auto slab =
+      voxels(n, [](double, double, double z) { return std::abs(z - 0.5) < 4.0 / 32; });
   const ThicknessStats s = thickness_stats(local_thickness(slab, n), slab, 1.0);
   EXPECT_NEAR(s.fraction, 8.0 / 32, 1e-12);
   EXPECT_NEAR(s.mean, 8.0, 1.0);

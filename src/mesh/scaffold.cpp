@@ -115,7 +115,9 @@ Field signed_distance(const Field& phi, double band, double iso) {
   std::vector<double> d2(cells, std::numeric_limits<double>::infinity());
   std::vector<std::int32_t> tri(cells, -1);
   auto id = [n](int i, int j, int k) { return (std::size_t(k) * n + j) * n + i; };
-  auto centre = [h](int i, int j, int k) { return Vec3{(i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h}; };
+  auto centre = [h](int i, int j, int k) {
+    return Vec3{(i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h};
+  };
   // Distance from cell centre p to triangle t, with t moved by whole periods next to p.
   auto distance2 = [&](const Vec3& p, std::int32_t t) {
     const auto& v = surf.triangles[std::size_t(t)];

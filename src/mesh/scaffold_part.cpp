@@ -248,7 +248,8 @@ nlohmann::json cell_morphometry(const Field& g, const std::function<double(doubl
 
 nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat,
                                 const std::string& units) {
-  const double area = part.report["area"].get<double>(), volume = part.report["volume"].get<double>();
+  const double area = part.report["area"].get<double>(),
+               volume = part.report["volume"].get<double>();
   return {{"specific_surface", area / volume},
           {"specific_surface_units", "1/" + units},
           {"surface_density", area / lat.porosity_volume()},
@@ -387,7 +388,8 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   PartLattice lat;
   std::vector<double> target;  // solid fraction per node layer along the axis
   for (std::size_t m = 0; m < members.size(); ++m) {
-    PartLattice one = sample_part(members[m].phi, d.size, d.cell_size, [](double v) { return v - 0.5; });
+    PartLattice one =
+        sample_part(members[m].phi, d.size, d.cell_size, [](double v) { return v - 0.5; });
     const int layers = one.nodes[ramp.axis];
     if (m == 0) {
       lat = one;
@@ -401,9 +403,11 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
       const double a = std::clamp(target[q], lo, hi);
       const double here = members[m].volume_fraction;
       if (m > 0 && a >= members[m - 1].volume_fraction && a <= here)
-        weight[q] = float((a - members[m - 1].volume_fraction) / (here - members[m - 1].volume_fraction));
+        weight[q] =
+            float((a - members[m - 1].volume_fraction) / (here - members[m - 1].volume_fraction));
       else if (m + 1 < members.size() && a >= here && a < members[m + 1].volume_fraction)
-        weight[q] = float((members[m + 1].volume_fraction - a) / (members[m + 1].volume_fraction - here));
+        weight[q] =
+            float((members[m + 1].volume_fraction - a) / (members[m + 1].volume_fraction - here));
       else if (a == here)
         weight[q] = 1.0f;
     }

@@ -61,7 +61,7 @@ struct ShapeFill {
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
                              const ShapeFill* shape = nullptr);
 
-// A graded part (issue 17, paper Fig. 2): the porosity ramps linearly from `from` at the low
+// A graded part (the paper's Fig. 2): the porosity ramps linearly from `from` at the low
 // end of the axis to `to` at the high end.
 struct PorosityRamp {
   double from = 0.8, to = 0.6;

@@ -42,7 +42,8 @@ TriMesh read_stl(const std::filesystem::path& path) {
       if (word == "vertex") {
         Vec3 p;
         if (!(text >> p[0] >> p[1] >> p[2]))
-          throw std::runtime_error(fmt::format("'{}': a vertex without three numbers", path.string()));
+          throw std::runtime_error(
+              fmt::format("'{}': a vertex without three numbers", path.string()));
         corners.push_back(p);
       }
   }

@@ -190,7 +190,8 @@ void write_3mf(const std::filesystem::path& path, const TriMesh& m, const std::s
                const MeshMetadata& meta) {
   check_not_periodic(m, "3MF");
   if (m.vertices.size() >= 0xffffffffu || m.triangles.size() >= 0xffffffffu)
-    throw std::runtime_error(fmt::format("3MF '{}': more than 2^32 vertices or triangles", path.string()));
+    throw std::runtime_error(
+        fmt::format("3MF '{}': more than 2^32 vertices or triangles", path.string()));
   NMR::eModelUnit model_unit = NMR::MODELUNIT_MILLIMETER;
   bool known = false;
   for (std::size_t u = 0; u < std::size(kUnits); ++u)
@@ -219,7 +220,8 @@ void write_3mf(const std::filesystem::path& path, const TriMesh& m, const std::s
               object.p, "setgeometry", path);
   }
   if (!meta.title.empty())
-    check_3mf(NMR::lib3mf_object_setnameutf8(object.p, meta.title.c_str()), object.p, "setname", path);
+    check_3mf(NMR::lib3mf_object_setnameutf8(object.p, meta.title.c_str()), object.p, "setname",
+              path);
   check_3mf(NMR::lib3mf_model_addbuilditem(model.p, object.p, nullptr, &item.p), model.p,
             "addbuilditem", path);
   check_3mf(NMR::lib3mf_model_querywriter(model.p, "3mf", &writer.p), model.p, "querywriter", path);
@@ -247,7 +249,8 @@ Read3mf read_3mf(const std::filesystem::path& path) {
     std::string kv[2];
     for (int which = 0; which < 2; ++which) {
       ULONG needed = 0;
-      auto get = which == 0 ? NMR::lib3mf_model_getmetadatakeyutf8 : NMR::lib3mf_model_getmetadatavalueutf8;
+      auto get = which == 0 ? NMR::lib3mf_model_getmetadatakeyutf8
+                            : NMR::lib3mf_model_getmetadatavalueutf8;
       check_3mf(get(model.p, i, nullptr, 0, &needed), model.p, "getmetadata", path);
       std::vector<char> buffer(needed + 1, '\0');
       check_3mf(get(model.p, i, buffer.data(), ULONG(buffer.size()), &needed), model.p,
@@ -256,17 +259,21 @@ Read3mf read_3mf(const std::filesystem::path& path) {
     }
     r.metadata.emplace_back(kv[0], kv[1]);
   }
-  check_3mf(NMR::lib3mf_model_getmeshobjects(model.p, &resources.p), model.p, "getmeshobjects", path);
+  check_3mf(NMR::lib3mf_model_getmeshobjects(model.p, &resources.p), model.p, "getmeshobjects",
+            path);
   for (BOOL more = true;;) {
-    check_3mf(NMR::lib3mf_resourceiterator_movenext(resources.p, &more), resources.p, "movenext", path);
+    check_3mf(NMR::lib3mf_resourceiterator_movenext(resources.p, &more), resources.p, "movenext",
+              path);
     if (!more) break;
     Lib3mfHandle object;
     check_3mf(NMR::lib3mf_resourceiterator_getcurrent(resources.p, &object.p), resources.p,
               "getcurrent", path);
     if (r.objects++ > 0) continue;
     DWORD nv = 0, nt = 0;
-    check_3mf(NMR::lib3mf_meshobject_getvertexcount(object.p, &nv), object.p, "getvertexcount", path);
-    check_3mf(NMR::lib3mf_meshobject_gettrianglecount(object.p, &nt), object.p, "gettrianglecount", path);
+    check_3mf(NMR::lib3mf_meshobject_getvertexcount(object.p, &nv), object.p, "getvertexcount",
+              path);
+    check_3mf(NMR::lib3mf_meshobject_gettrianglecount(object.p, &nt), object.p, "gettrianglecount",
+              path);
     std::vector<NMR::MODELMESHVERTEX> vertices(nv);
     std::vector<NMR::MODELMESHTRIANGLE> triangles(nt);
     check_3mf(NMR::lib3mf_meshobject_getvertices(object.p, vertices.data(), nv, nullptr), object.p,
@@ -275,7 +282,8 @@ Read3mf read_3mf(const std::filesystem::path& path) {
               object.p, "gettriangleindices", path);
     r.vertices = nv;
     r.triangles = nt;
-    for (const auto& v : vertices) r.mesh.vertices.push_back({v.m_fPosition[0], v.m_fPosition[1], v.m_fPosition[2]});
+    for (const auto& v : vertices)
+      r.mesh.vertices.push_back({v.m_fPosition[0], v.m_fPosition[1], v.m_fPosition[2]});
     for (const auto& t : triangles)
       r.mesh.triangles.push_back({t.m_nIndices[0], t.m_nIndices[1], t.m_nIndices[2]});
   }

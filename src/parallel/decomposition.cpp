@@ -349,7 +349,7 @@ std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& min
   return mine;
 }
 
-// --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+// --- Process groups: a sweep's members side by side (docs/scaling.md) ---
 
 void Decomposition::arrange(const Comm& processes) {
 #ifdef CMCSURF_HAVE_MPI

@@ -100,7 +100,7 @@ class Decomposition {
   // that rank (-1 for none).
   std::string first_error(const std::string& mine, int* rank = nullptr) const;
 
-  // --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+  // --- Process groups: a sweep's members side by side (docs/scaling.md) ---
   // Splits the world's processes into `groups` groups of ranks() / groups consecutive world
   // ranks, each on its own periodic process grid built as world()'s (a group of one process is
   // self()). Collective over the world; `groups` must divide the world's rank count.
@@ -134,7 +134,7 @@ NodeGather allgather_on_node(const std::vector<std::uint64_t>& mine);
 // ranks x mine.size(), in MPI_COMM_WORLD rank order (= Decomposition::world()'s rank).
 std::vector<std::uint64_t> allgather_world(const std::vector<std::uint64_t>& mine);
 
-// --- Process groups: a sweep's members side by side (issue 16, "Sweeps across nodes") ---
+// --- Process groups: a sweep's members side by side (docs/scaling.md) ---
 struct ProcessGroup {
   int groups = 1;  // the world's processes form this many groups of equal size
   int index = 0;   // this process's group: world ranks index * size .. (index + 1) * size - 1

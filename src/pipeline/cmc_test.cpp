@@ -108,7 +108,8 @@ TEST(Pipeline, TranslationCommutesWithRelaxation) {
   Field a = make_initial_field(init, n, 2);
   truncate_unit_interval(a);
   Field b(n, 2);
-  for_each_cell(n, [&](int i, int j, int k) { b(i, j, k) = a((i + 5) % n, (j + 3) % n, (k + 7) % n); });
+  for_each_cell(
+      n, [&](int i, int j, int k) { b(i, j, k) = a((i + 5) % n, (j + 3) % n, (k + 7) % n); });
   RunParams p = small_gyroid(0.5);
   p.max_steps = 5;
   const RunResult ra = relax_field(a, p), rb = relax_field(b, p);
@@ -158,8 +159,8 @@ TEST(Pipeline, SphereIsStationary) {
 namespace cmcsurf {
 namespace {
 
-// --mg-rtol (issue 5's relative V-cycle stopping) keeps the paper-faithful result: final area
-// within 1e-4 relative (issue 5 asks for 0.1 %; measured 5e-7 at 64^3 with 1e-2), same volume
+// --mg-rtol (the relative V-cycle stopping) keeps the paper-faithful result: final area within
+// 1e-4 relative (--fast promises 0.1 %; measured 5e-7 at 64^3 with 1e-2), same volume
 // fraction, with fewer V-cycles.
 TEST(Pipeline, RelativeVCycleToleranceKeepsTheResult) {
   RunParams p = small_gyroid(0.35);
@@ -193,7 +194,7 @@ TEST(Pipeline, TrilinearProlongationKeepsMeanAndLinearFields) {
     EXPECT_NEAR(fine(i, 4, 6) - fine(i - 1, 4, 6), 0.05, 1e-14) << i;
 }
 
-// Coarse-to-fine continuation (issue 5, off by default) lands on the same family member as the
+// Coarse-to-fine continuation (off by default) lands on the same family member as the
 // paper's procedure: area within 0.1 %, volume fraction within the volume tolerance.
 TEST(Pipeline, CoarseToFineMatchesDirectRun) {
   RunParams p = small_gyroid(0.35);
@@ -227,7 +228,7 @@ RunParams gyroid_32(Constraint constrain) {
   return p;
 }
 
-// Adaptive time steps (issue 5): dt doubles up to dt_max_factor h; the relaxed state is the
+// Adaptive time steps: dt doubles up to dt_max_factor h; the relaxed state is the
 // same fixed point, reached in fewer steps.
 TEST(Pipeline, AdaptiveTimeStepsKeepTheResult) {
   RunParams p = gyroid_32(Constraint::kMass);
@@ -274,9 +275,8 @@ TEST(Pipeline, SettlingEndsTheRelaxationOnTheSameSurface) {
 }
 
 // Everything --fast combines (continuation, relative V-cycle stop, extrapolation, adaptive dt,
-// settling)
-// against the paper-faithful run: issue 5 asks for the area within 0.1 % and the same volume
-// fraction and family member (same mean curvature to 1 %).
+// settling) against the paper-faithful run: --fast promises the area within 0.1 % and the same
+// volume fraction and family member (same mean curvature to 1 %).
 TEST(Pipeline, FastCombinationMatchesPaperFaithfulRun) {
   RunParams p = gyroid_32(Constraint::kVolume);
   const RunResult faithful = run_cmc(p);

@@ -34,7 +34,8 @@ TEST(Continuation, ProfileProlongationKeepsTheTanhProfile) {
   // mean-restoring constant is of the same size.
   const double e_trilinear = max_abs_diff(trilinear, fine_exact);
   const double e_profile = max_abs_diff(profile, fine_exact);
-  EXPECT_GT(e_trilinear, 0.01);  // measured 0.0106  // averaging the steep tanh across two coarse cells
+  // Measured 0.0106: averaging the steep tanh across two coarse cells.
+  EXPECT_GT(e_trilinear, 0.01);
   EXPECT_LT(e_profile, 1e-3);
   EXPECT_LT(e_profile, e_trilinear / 50);
 }

@@ -1,4 +1,4 @@
-// Whether a computed member has its family's topology (issue 23). Near a family's topology
+// Whether a computed member has its family's topology. Near a family's topology
 // change a run can end on a member of another one (P at porosity 0.75: perforated plates,
 // genus 2; at 0.8 separate balls) that a scaffold would then print in place of the lattice
 // asked for. The family's topology is that of the nodal start phi^0 = F + 1/2 (step 1's field,
@@ -30,7 +30,7 @@ struct MemberTopology {
 
 // From a run's report (report.json, or a scaffold cache's member.json "run"): the member's chi
 // and its family's (euler_characteristic_start; computed from the surface and grid when the
-// report lacks it: written before issue 23, or a sweep member continued from a neighbour).
+// report lacks it: written by an older cmcsurf, or a sweep member continued from a neighbour).
 // nullopt when the report says neither (no nodal target, or no sharp measures).
 std::optional<MemberTopology> member_topology(const nlohmann::json& run_report);
 

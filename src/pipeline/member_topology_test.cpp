@@ -14,7 +14,7 @@ TEST(MemberTopology, NodalStartsHaveTheFamiliesEulerCharacteristics) {
 }
 
 TEST(MemberTopology, AChangedMemberIsRefusedNamingBoth) {
-  // A report before issue 23 (no euler_characteristic_start): the family's is computed.
+  // A report of an older cmcsurf (no euler_characteristic_start): the family's is computed.
   nlohmann::json r = {{"surface", "P"}, {"volume_fraction_target", 0.5}, {"grid", 16},
                       {"euler_characteristic", -2}};
   auto t = member_topology(r);

@@ -82,9 +82,10 @@ TEST(ResumeCheck, RefusesAVolumeStageWithoutItsIterates) {
   EXPECT_NE(problem_after(p, c, [](Checkpoint& x) { x.result.volume_iterates.clear(); })
                 .find("volume iterates"),
             std::string::npos);
-  EXPECT_NE(problem_after(p, c, [&](Checkpoint& x) { x.cursor.correction = p.max_volume_corrections; })
-                .find("mass correction"),
-            std::string::npos);
+  EXPECT_NE(
+      problem_after(p, c, [&](Checkpoint& x) { x.cursor.correction = p.max_volume_corrections; })
+          .find("mass correction"),
+      std::string::npos);
   EXPECT_NE(problem_after(p, c, [](Checkpoint& x) { x.cursor.slope = 0.0; }).find("slope"),
             std::string::npos);
   // A run held at its mass has no volume stage.

@@ -164,7 +164,9 @@ TEST(Resume, CheckpointsDoNotChangeTheRun) {
   const RunResult plain = run_cmc(p);
   RunContext context;
   int calls = 0, written = 0;
-  context.control = [&] { return ++calls % 3 == 0 ? RunControl::kCheckpoint : RunControl::kContinue; };
+  context.control = [&] {
+    return ++calls % 3 == 0 ? RunControl::kCheckpoint : RunControl::kContinue;
+  };
   context.checkpoint = [&](const Checkpoint& c) {
     ++written;
     EXPECT_EQ(c.step + 1, calls);

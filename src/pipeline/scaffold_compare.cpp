@@ -11,7 +11,8 @@ namespace cmcsurf {
 
 namespace {
 
-nlohmann::json side(const nlohmann::json& report, const CurvatureDistribution& h, double cell_size) {
+nlohmann::json side(const nlohmann::json& report, const CurvatureDistribution& h,
+                    double cell_size) {
   const auto& m = report["morphometry"];
   nlohmann::json j = {{"porosity", report["porosity"]},
                       {"specific_surface", m["specific_surface"]},
@@ -51,9 +52,12 @@ nlohmann::json compare_with_nodal(const Field& phi, const RunParams& params,
           {"nodal", nodal_side},
           {"nodal_level", nodal.level},
           {"shape", shape != nullptr},
-          {"note", "the same design (box or --shape) from the nodal approximation at the "
-                   "member's volume fraction (surfaces/nodal_level.h); mean curvature and its area-weighted spread in "
-                   "1/" + d.units + ", sharp estimators (docs/families.md)"},
+          {"note",
+           "the same design (box or --shape) from the nodal approximation at the "
+           "member's volume fraction (surfaces/nodal_level.h); mean curvature and its "
+           "area-weighted spread in "
+           "1/" +
+               d.units + ", sharp estimators (docs/families.md)"},
           {"seconds", seconds_since(t0)}};
 }
 

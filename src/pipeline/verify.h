@@ -39,10 +39,11 @@ TransitionLayerResult verify_transition_layer(int m, int n, double t_end, std::u
                                               const ProgressFn& progress = {});
 
 // Section 4.2: the cube 0.25 <= x,y,z <= 0.75 on n^3 (the paper: 64^3, epsilon = 0.015),
-// dt = h, relaxed until ||dphi|| <= tol or max_steps. Sphericity pi^(1/3) (6V)^(2/3) / A (1 for a ball, 0.806 for a
-// cube) with V the sharp volume of {phi > 1/2} (not the mass: the ball loses part of its mass to
-// the surrounding phase) and A the area measure, and the ratio of the phi = 1/2 radius along the
-// axes to the radius along the cube diagonals (0.577 for the cube, 1 for a sphere).
+// dt = h, relaxed until ||dphi|| <= tol or max_steps. Sphericity pi^(1/3) (6V)^(2/3) / A (1 for a
+// ball, 0.806 for a cube) with V the sharp volume of {phi > 1/2} (not the mass: the ball loses part
+// of its mass to the surrounding phase) and A the area measure, and the ratio of the phi = 1/2
+// radius along the axes to the radius along the cube diagonals (0.577 for the cube, 1 for a
+// sphere).
 struct CubeToSphereResult {
   double sphericity_initial = 0.0;
   double sphericity_final = 0.0;

@@ -181,7 +181,8 @@ Image render_gallery(const std::string& title, const std::vector<GalleryRow>& ro
   const int grid_h = std::max(int(rows.size()) * row_h, 1);
   // The plot at the height of the rows (at least 420 px, so that it stays readable).
   const int plot_h = plot.width > 0 ? std::max(grid_h, 420) : 0;
-  const int plot_w = plot.width > 0 ? int(std::lround(double(plot.width) * plot_h / plot.height)) : 0;
+  const int plot_w =
+      plot.width > 0 ? int(std::lround(double(plot.width) * plot_h / plot.height)) : 0;
   const int grid_x = plot_w + (plot_w ? pad : 0);
   const int width = grid_x + label_w + int(max_tiles) * kGalleryTile + bar_w;
   const int height = title_h + std::max(grid_h, plot_h) + pad;

@@ -24,7 +24,9 @@ inline constexpr int kPreviewPanel = 380;
 inline constexpr int kPreviewTitle = 72;
 inline constexpr int kPreviewHeader = 30;
 inline constexpr int kPreviewColorBar = 130;
-inline constexpr int preview_width(bool nodal) { return (nodal ? 2 : 1) * kPreviewPanel + kPreviewColorBar; }
+inline constexpr int preview_width(bool nodal) {
+  return (nodal ? 2 : 1) * kPreviewPanel + kPreviewColorBar;
+}
 inline constexpr int preview_height() { return kPreviewTitle + kPreviewHeader + 2 * kPreviewPanel; }
 
 // One panel: the surface over tiles^3 unit cells, seen along a fixed oblique direction

@@ -108,7 +108,8 @@ void Canvas::draw_line(float x0, float y0, float z0, float x1, float y1, float z
 }
 
 std::size_t Canvas::covered() const {
-  return std::size_t(std::count_if(depth_.begin(), depth_.end(), [](float d) { return d != kEmpty; }));
+  return std::size_t(
+      std::count_if(depth_.begin(), depth_.end(), [](float d) { return d != kEmpty; }));
 }
 
 Image Canvas::resolve(const Shading& shading) const {

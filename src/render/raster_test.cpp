@@ -135,8 +135,13 @@ TEST(Colormap, EndpointsCentreAndClamping) {
   // Cool below the centre, warm above it.
   for (int k = 0; k <= 64; ++k) {
     const Rgb c = diverging(k / 64.0);
-    if (k < 31) EXPECT_LT(c.r, c.b) << k;
-    if (k > 33) EXPECT_GT(c.r, c.b) << k;
+    // Braces: EXPECT_* expand to an if/else, which a bare if would make ambiguous.
+    if (k < 31) {
+      EXPECT_LT(c.r, c.b) << k;
+    }
+    if (k > 33) {
+      EXPECT_GT(c.r, c.b) << k;
+    }
   }
 }
 

@@ -73,8 +73,8 @@ void draw_text(Image& image, int x, int y, float px, std::string_view utf8, Rgb 
     stbtt_GetCodepointHMetrics(&f, cps[i], &advance, &lsb);
     const float shift = pen - std::floor(pen);
     int w, h, xoff, yoff;
-    unsigned char* bitmap =
-        stbtt_GetCodepointBitmapSubpixel(&f, scale, scale, shift, 0.0f, cps[i], &w, &h, &xoff, &yoff);
+    unsigned char* bitmap = stbtt_GetCodepointBitmapSubpixel(&f, scale, scale, shift, 0.0f, cps[i],
+                                                             &w, &h, &xoff, &yoff);
     if (bitmap) {
       for (int j = 0; j < h; ++j)
         for (int k = 0; k < w; ++k)

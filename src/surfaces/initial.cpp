@@ -63,9 +63,7 @@ struct NodalSurface {
 // The nodal functions F, one place each, of X = 2 pi x, Y = 2 pi y, Z = 2 pi z (their AxisTrig).
 // "balanced": some isometry of the cell maps F to -F (both phases congruent).
 const NodalSurface kNodal[] = {
-    {"P",
-     "Schwarz P, Eq. (7): cos X + cos Y + cos Z (Schnering & Nesper 1991)",
-     true,
+    {"P", "Schwarz P, Eq. (7): cos X + cos Y + cos Z (Schnering & Nesper 1991)", true,
      [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) { return sum_cos(x, y, z); }},
     {"D",
      "Schwarz D, Eq. (8): cos X cos Y cos Z - sin X sin Y sin Z (= the four-term "
@@ -84,7 +82,9 @@ const NodalSurface kNodal[] = {
      "Schoen I-WP: 2 (cos X cos Y + cos Y cos Z + cos Z cos X) - (cos 2X + cos 2Y + cos 2Z) "
      "(Schnering & Nesper 1991)",
      false,
-     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) { return 2 * sum_cos_cos(x, y, z) - sum_cos2(x, y, z); }},
+     [](const AxisTrig& x, const AxisTrig& y, const AxisTrig& z) {
+       return 2 * sum_cos_cos(x, y, z) - sum_cos2(x, y, z);
+     }},
     {"Neovius",
      "Neovius C(P): 3 (cos X + cos Y + cos Z) + 4 cos X cos Y cos Z (Schnering & Nesper 1991)",
      true,

@@ -14,7 +14,7 @@ struct SurfaceInfo {
   std::string name;         // as given to --surface (P, D, G, sphere, cube, noise, ...)
   std::string description;  // one line, with the formula's source
   bool nodal;               // a trigonometric nodal approximation: goes through steps 1-5
-  bool balanced;            // both phases congruent, so the 0.5 member is a candidate minimal surface
+  bool balanced;  // both phases congruent, so the 0.5 member is a candidate minimal surface
 };
 
 // Every built-in surface, in the order `cmcsurf surfaces` lists them.

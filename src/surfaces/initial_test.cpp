@@ -426,7 +426,8 @@ TEST(SurfacesExpr, MatchesTheBuiltInFormulas) {
   for (const auto& [formula, name] : pairs) {
     const Field a = nodal_field(formula, n, 1), b = nodal_field(name, n, 1);
     double err = 0.0;
-    for_each_cell(n, [&](int i, int j, int k) { err = std::max(err, std::abs(a(i, j, k) - b(i, j, k))); });
+    for_each_cell(
+        n, [&](int i, int j, int k) { err = std::max(err, std::abs(a(i, j, k) - b(i, j, k))); });
     EXPECT_LT(err, 1e-14) << formula;
     EXPECT_EQ(a(-1, 0, 0), a(n - 1, 0, 0));
     EXPECT_NEAR(nodal_value(formula, 0.1, 0.7, 0.3), nodal_value(name, 0.1, 0.7, 0.3), 1e-14);

@@ -45,7 +45,8 @@ expect_usage --volume-fractions sweep --surface G --volume-fractions 0.5,0.5
 # them either, but reported them).
 "$bin" run --surface noise --grid 64 --fast --max-steps 2 --quiet --no-preview --no-report \
   --out "$work/noise" 2>/dev/null
-python3 -c "import json,sys; assert json.load(open(sys.argv[1]))['parameters']['coarse_levels'] == 0" \
+python3 -c "import json, sys
+assert json.load(open(sys.argv[1]))['parameters']['coarse_levels'] == 0" \
   "$work/noise/report.json" || { echo "FAIL: --fast noise reports coarse levels"; fail=1; }
 # A run whose field ends with no surface is an error, not area 0 "converged".
 "$bin" run --surface expr:1 --grid 16 --quiet --no-preview --no-report --out "$work/flat" \
@@ -58,7 +59,10 @@ fi
 touch "$work/file"
 "$bin" run --grid 16 --out "$work/file" >/dev/null 2>"$work/stderr"
 rc=$?
-if [ "$rc" -ne 2 ] || ! grep -q -- --out "$work/stderr"; then echo "FAIL: --out on a file: rc $rc"; fail=1; fi
+if [ "$rc" -ne 2 ] || ! grep -q -- --out "$work/stderr"; then
+  echo "FAIL: --out on a file: rc $rc"
+  fail=1
+fi
 "$bin" --help >/dev/null || { echo "FAIL: --help"; fail=1; }
 "$bin" run --help | grep -q -- --volume-fraction || { echo "FAIL: run --help"; fail=1; }
 [ "$fail" -eq 0 ] && echo "bad_options: all passed"

@@ -10,14 +10,17 @@
 # grids of --fast.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
 # ~160 steps at 16^3: about 90 of relaxation, then one volume correction (0.3 s; 2 s under ASan).
-args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7 --max-volume-corrections 1)
+args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7
+      --max-volume-corrections 1)
 outputs=(--float32 --mesh ply --no-preview --no-report)
 
-"$bin" "${args[@]}" "${outputs[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain run"; exit 1; }
+"$bin" "${args[@]}" "${outputs[@]}" --quiet --out "$work/whole" ||
+  { echo "FAIL: the plain run"; exit 1; }
 
 # Starts a run in the background and waits until its progress shows stage $2 (or a file).
 start() {
@@ -32,14 +35,11 @@ start() {
 }
 
 same_as_whole() {  # $1: folder of a resumed run
-  python3 - "$work/whole" "$1" <<'PY' || fail=1
+  PYTHONPATH="$support" python3 - "$work/whole" "$1" <<'PY' || fail=1
 import json, os, sys
+from report_keys import differing_keys
 a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
-diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+diff = differing_keys(a, b)
 assert not diff, f"resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0 and b["steps"] == a["steps"] and b["vcycles"] == a["vcycles"]
 files = [sorted(os.listdir(d)) for d in sys.argv[1:3]]
@@ -80,14 +80,16 @@ assert r['checkpoint']['stage'] == 'relax', r['checkpoint']
   rc=$?
   [ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" ||
     { echo "FAIL: --resume with --grid 64 exited $rc:"; cat "$work/err"; fail=1; }
-  [ "$before" = "$(md5sum "$out"/* | md5sum)" ] || { echo "FAIL: a refused resume changed files"; fail=1; }
+  [ "$before" = "$(md5sum "$out"/* | md5sum)" ] ||
+    { echo "FAIL: a refused resume changed files"; fail=1; }
 
   [ $sig = INT ] && break  # its checkpoint is damaged below
   # What a process killed while writing leaves (a dead pid's temporary): the resume removes it.
   echo partial >"$out/checkpoint.bin.cmcsurf-tmp.2147483647.0"
   $hint --quiet || { echo "FAIL: the printed resume command after SIG$sig"; fail=1; }
   same_as_whole "$out"
-  [ ! -e "$out/checkpoint.bin.cmcsurf-tmp.2147483647.0" ] || { echo "FAIL: stale temporary kept"; fail=1; }
+  [ ! -e "$out/checkpoint.bin.cmcsurf-tmp.2147483647.0" ] ||
+    { echo "FAIL: stale temporary kept"; fail=1; }
 done
 
 # kill -9 after a periodic checkpoint: the resumed run still ends on the same bits.

@@ -4,6 +4,7 @@
 # then `run --resume`: the same bits as the uninterrupted run (docs/reliability.md).
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -40,14 +41,11 @@ PY
 
 for name in coarse middle finest; do
   "$bin" run --resume "$work/$name" --quiet || { echo "FAIL: resume of $name"; fail=1; continue; }
-  python3 - "$work/whole" "$work/$name" <<'PY' || fail=1
+  PYTHONPATH="$support" python3 - "$work/whole" "$work/$name" <<'PY' || fail=1
 import json, os, sys
+from report_keys import differing_keys
 a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
-diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+diff = differing_keys(a, b)
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"
 assert b["coarse_steps"] > 0 and b["parameters"]["coarse_levels"] == 2
 files = [sorted(os.listdir(d)) for d in sys.argv[1:3]]
@@ -55,7 +53,8 @@ assert files[0] == files[1], f"the folders hold {files[0]} and {files[1]}"
 PY
   cmp -s <(grep -av seconds "$work/whole/field.vti") <(grep -av seconds "$work/$name/field.vti") ||
     { echo "FAIL: $name/field.vti differs"; fail=1; }
-  cmp -s "$work/whole/surface.stl" "$work/$name/surface.stl" || { echo "FAIL: $name/surface.stl differs"; fail=1; }
+  cmp -s "$work/whole/surface.stl" "$work/$name/surface.stl" ||
+    { echo "FAIL: $name/surface.stl differs"; fail=1; }
 done
 [ $fail = 0 ] && echo "checkpoint_resume_fast: all passed"
 exit $fail

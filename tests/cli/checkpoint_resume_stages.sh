@@ -9,6 +9,7 @@
 # written exits at once (143) writing nothing more, and the next run removes its temporary.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
@@ -17,14 +18,11 @@ fail=0
 # Compares a resumed folder with the uninterrupted one: report (timings aside), file list,
 # every field value and the mesh.
 same() {
-  python3 - "$1" "$2" <<'PY' || fail=1
+  PYTHONPATH="$support" python3 - "$1" "$2" <<'PY' || fail=1
 import json, os, sys
+from report_keys import differing_keys
 a, b = (json.load(open(f"{d}/report.json")) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
-diff = [k for k in set(a) | set(b) if k not in timing and a.get(k) != b.get(k)]
+diff = differing_keys(a, b)
 assert not diff, f"{sys.argv[2]}: resumed report differs in {diff}"
 assert b["resumed_from_step"] > 0, b.get("resumed_from_step")
 assert b["threads"] == a["threads"], (a["threads"], b["threads"])
@@ -64,7 +62,8 @@ refused() {  # $1: folder, $2: pattern the message must hold
   local rc=$?
   [ $rc = 2 ] && grep -q -- "$2" "$work/err" ||
     { echo "FAIL: $1: exit $rc, no '$2' in:"; cat "$work/err"; fail=1; }
-  [ "$before" = "$(md5sum "$1"/* | md5sum)" ] || { echo "FAIL: a refused resume changed $1"; fail=1; }
+  [ "$before" = "$(md5sum "$1"/* | md5sum)" ] ||
+    { echo "FAIL: a refused resume changed $1"; fail=1; }
 }
 
 # --- Stages: 40 pre-relaxation steps so that a signal can land in them (16^3, 1 s a run).
@@ -92,12 +91,14 @@ assert c['stage'] == '$stage' and c['grid'] == 16, c
     cp -r "$out" "$work/other-build"
     patch_header "$work/other-build/checkpoint.bin" \
       're.sub(rb"\(commit ([^,]+),", lambda m: b"(commit " + b"0" * len(m[1]) + b",", h, count=1)'
-    refused "$work/other-build" "written by cmcsurf [0-9.]* (commit 0*, .*; this is cmcsurf [0-9.]* (commit [0-9a-f]"
+    refused "$work/other-build" \
+      "written by cmcsurf [0-9.]* (commit 0*, .*; this is cmcsurf [0-9.]* (commit [0-9a-f]"
     # Valid checksums, hostile contents: a parameter out of range; volume iterates in a
     # pre-relaxation (no run reaches that state).
     cp -r "$out" "$work/hostile-params"
     patch_header "$work/hostile-params/checkpoint.bin" \
-      're.sub(rb"gepsilon\xfb.{8}", b"gepsilon\xfb" + struct.pack(">d", 2.0), h, count=1, flags=re.S)'
+      're.sub(rb"gepsilon\xfb.{8}", b"gepsilon\xfb" + struct.pack(">d", 2.0), h, count=1,
+              flags=re.S)'
     refused "$work/hostile-params" "parameter out of range: --epsilon: got 2"
     cp -r "$out" "$work/hostile-state"
     patch_header "$work/hostile-state/checkpoint.bin" \
@@ -141,7 +142,8 @@ names = sorted(os.listdir(out))
 check("report.json" not in names, f"kill -9 during the outputs left report.json: {names}")
 check("checkpoint.bin" in names, f"the periodic checkpoint is gone: {names}")
 if "field.vti" in names:  # only ever complete under its final name
-    check(open(f"{out}/field.vti", "rb").read().rstrip().endswith(b"</VTKFile>"), "partial field.vti")
+    check(open(f"{out}/field.vti", "rb").read().rstrip().endswith(b"</VTKFile>"),
+          "partial field.vti")
 r = subprocess.run([bin, "run", "--resume", out], capture_output=True, text=True)
 check(r.returncode == 0, f"resume after kill -9 during the outputs: {r.stderr}")
 left = [n for n in os.listdir(out) if ".cmcsurf-tmp." in n or n == "checkpoint.bin"]

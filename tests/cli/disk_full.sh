@@ -20,10 +20,15 @@ fail=0
 "$bin" run --surface G --grid 32 --max-steps 3 --quiet --out "$work/small/run" 2>"$work/err"
 rc=$?
 [ "$rc" = 1 ] || { echo "FAIL: exit $rc, expected 1"; fail=1; }
-grep -q "No space left on device" "$work/err" || { echo "FAIL: message: $(cat "$work/err")"; fail=1; }
+grep -q "No space left on device" "$work/err" ||
+  { echo "FAIL: message: $(cat "$work/err")"; fail=1; }
 [ -e "$work/small/run/report.json" ] && { echo "FAIL: report.json written"; fail=1; }
-[ -e "$work/small/run/field.vti" ] && { echo "FAIL: a partial field.vti under its final name"; fail=1; }
-if ls "$work/small/run" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$work/small/run")"; fail=1; fi
+[ -e "$work/small/run/field.vti" ] &&
+  { echo "FAIL: a partial field.vti under its final name"; fail=1; }
+if ls "$work/small/run" | grep -q tmp; then
+  echo "FAIL: temporary left: $(ls "$work/small/run")"
+  fail=1
+fi
 
 # report.json is written last: a disk that fills while report.html (250-830 KB, with or without
 # the 3D viewer) is written
@@ -54,28 +59,35 @@ umount "$work/page"
 
 # On 108 KB, a checkpoint does not fit (24^3: phi alone is 110 KB) but the outputs do (a
 # Float32 field of 55 KB): a warning and the run goes on; no checkpoint or temporary stays.
-"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate --max-steps 30 --constrain mass \
-  --float32 --no-preview --no-report --checkpoint-every 0.01 --quiet --out "$work/tiny/ck" 2>"$work/err"
+"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate \
+  --max-steps 30 --constrain mass --float32 --no-preview --no-report --checkpoint-every 0.01 \
+  --quiet --out "$work/tiny/ck" 2>"$work/err"
 rc=$?
-[ "$rc" = 0 ] || { echo "FAIL: a run whose checkpoints do not fit exited $rc"; cat "$work/err"; fail=1; }
-grep -q "warning: no checkpoint written (.*No space left on device.*); the run goes on" "$work/err" ||
+[ "$rc" = 0 ] ||
+  { echo "FAIL: a run whose checkpoints do not fit exited $rc"; cat "$work/err"; fail=1; }
+grep -q "warning: no checkpoint written (.*No space left on device.*); the run goes on" \
+  "$work/err" ||
   { echo "FAIL: no warning: $(cat "$work/err")"; fail=1; }
 python3 -c "
 import json; r = json.load(open('$work/tiny/ck/report.json'))
 assert r['checkpoints_written'] == 0 and r['stop_reason'] != 'interrupted', r['checkpoints_written']
 " || fail=1
-if ls "$work/tiny/ck" | grep -q "tmp\|checkpoint"; then echo "FAIL: left: $(ls "$work/tiny/ck")"; fail=1; fi
+if ls "$work/tiny/ck" | grep -q "tmp\|checkpoint"; then
+  echo "FAIL: left: $(ls "$work/tiny/ck")"
+  fail=1
+fi
 
 # SIGTERM when its checkpoint cannot be written: exit 1 saying so, and no report that claims a
 # checkpoint.
-"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --tol 1e-9 --extrapolate --constrain mass --float32 \
-  --no-preview --no-report --out "$work/tiny/sig" 2>"$work/err" &
+"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --tol 1e-9 --extrapolate \
+  --constrain mass --float32 --no-preview --no-report --out "$work/tiny/sig" 2>"$work/err" &
 pid=$!
 for _ in $(seq 1 500); do grep -q "^relax " "$work/err" && break; sleep 0.01; done
 kill -TERM $pid
 wait $pid
 rc=$?
-[ "$rc" = 1 ] && grep -q "interrupted at step .*, but no checkpoint was written: .*No space left" "$work/err" ||
+[ "$rc" = 1 ] &&
+  grep -q "interrupted at step .*, but no checkpoint was written: .*No space left" "$work/err" ||
   { echo "FAIL: SIGTERM without room for the checkpoint: exit $rc"; cat "$work/err"; fail=1; }
 [ ! -e "$work/tiny/sig/checkpoint.bin" ] || { echo "FAIL: a checkpoint.bin"; fail=1; }
 if [ -e "$work/tiny/sig/report.json" ]; then
@@ -84,6 +96,9 @@ import json; r = json.load(open('$work/tiny/sig/report.json'))
 assert r['stop_reason'] == 'interrupted' and r['checkpoint']['file'] == '', r['checkpoint']
 " || fail=1
 fi
-if ls "$work/tiny/sig" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$work/tiny/sig")"; fail=1; fi
+if ls "$work/tiny/sig" | grep -q tmp; then
+  echo "FAIL: temporary left: $(ls "$work/tiny/sig")"
+  fail=1
+fi
 [ "$fail" = 0 ] && echo "disk_full: all passed"
 exit "$fail"

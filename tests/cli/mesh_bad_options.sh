@@ -3,7 +3,8 @@
 # nothing written.
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" || { echo "FAIL: run"; exit 1; }
+"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
+  { echo "FAIL: run"; exit 1; }
 before=$(ls "$work/run" | sort)
 expect_usage() { check_usage out.stl "$@"; }  # <option> <args...>
 r="$work/run"
@@ -26,12 +27,16 @@ expect_usage --threads   mesh --from "$r" --threads -1
 expect_usage --members   graded --members "$r" --from-fraction 0.4 --to-fraction 0.5
 expect_usage --axis      graded --members "$r,$r" --axis w --from-fraction 0.4 --to-fraction 0.5
 expect_usage --from-fraction graded --members "$r,$r" --from-fraction 1.5 --to-fraction 0.5
-expect_usage --solid     graded --members "$r,$r" --from-fraction 0.4 --to-fraction 0.5 --solid sheet
+expect_usage --solid     graded --members "$r,$r" --from-fraction 0.4 --to-fraction 0.5 \
+  --solid sheet
 expect_usage --unknown   mesh --from "$r" --unknown 1
 # --format cannot come from a name without a known extension.
 "$bin" mesh --from "$r" --out "$work/out.mesh" >/dev/null 2>"$work/stderr"
 rc=$?
-if [ "$rc" -ne 2 ] || ! grep -q -- --format "$work/stderr"; then echo "FAIL: unknown extension: rc $rc"; fail=1; fi
+if [ "$rc" -ne 2 ] || ! grep -q -- --format "$work/stderr"; then
+  echo "FAIL: unknown extension: rc $rc"
+  fail=1
+fi
 # run --mesh with a bad format fails before the run and writes nothing.
 "$bin" run --grid 16 --max-steps 2 --mesh step --out "$work/run2" >/dev/null 2>"$work/stderr"
 rc=$?

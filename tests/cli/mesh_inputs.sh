@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 23: mesh, graded and scaffold inputs. Numbers without a finite range (--cell-size
+# mesh, graded and scaffold inputs. Numbers without a finite range (--cell-size
 # 1e-300 wrote an all-zero STL), a field with no surface, empty or foreign graded members, and
 # outputs that are their own inputs (by file identity, not by name): refused before any work,
 # nothing written, the input untouched.

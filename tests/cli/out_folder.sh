@@ -42,7 +42,8 @@ echo user >ours/thesis.tmp.99999.1
 echo partial >ours/field.vti.cmcsurf-tmp.2147483647.0
 "$bin" run "${quick[@]}" --surface P --out ours || { echo "FAIL: a rerun"; fail=1; }
 [ -e ours/thesis.tmp.99999.1 ] || { echo "FAIL: a user's thesis.tmp.99999.1 was removed"; fail=1; }
-[ ! -e ours/field.vti.cmcsurf-tmp.2147483647.0 ] || { echo "FAIL: our stale temporary kept"; fail=1; }
+[ ! -e ours/field.vti.cmcsurf-tmp.2147483647.0 ] ||
+  { echo "FAIL: our stale temporary kept"; fail=1; }
 python3 -c "import json; assert json.load(open('ours/report.json'))['surface'] == 'P'" || fail=1
 # An empty folder is fine; a file is not a folder.
 mkdir empty
@@ -66,7 +67,8 @@ start=$(date +%s)
 rc=$?
 [ "$rc" = 1 ] && grep -q "another cmcsurf process.*is writing this folder" err ||
   { echo "FAIL: a second writer: exit $rc"; cat err; fail=1; }
-[ $(($(date +%s) - start)) -le 5 ] || { echo "FAIL: the second writer was not refused at once"; fail=1; }
+[ $(($(date +%s) - start)) -le 5 ] ||
+  { echo "FAIL: the second writer was not refused at once"; fail=1; }
 wait $first || { echo "FAIL: the first writer"; cat first.err; fail=1; }
 python3 -c "import json; assert json.load(open('busy/report.json'))['surface'] == 'G'" || fail=1
 # The same with a lock held by another tool (util-linux flock), and for a sweep.
@@ -75,7 +77,8 @@ if command -v flock >/dev/null; then
   sleep 0.3
   "$bin" run "${quick[@]}" --out ours 2>err
   [ $? = 1 ] || { echo "FAIL: a locked folder was written"; fail=1; }
-  mkdir -p sw && "$bin" sweep --surface G --volume-fractions 0.5 "${quick[@]}" --out sw >/dev/null 2>&1
+  mkdir -p sw &&
+    "$bin" sweep --surface G --volume-fractions 0.5 "${quick[@]}" --out sw >/dev/null 2>&1
   flock sw/.cmcsurf sleep 3 &
   sleep 0.3
   "$bin" sweep --surface G --volume-fractions 0.5 "${quick[@]}" --out sw 2>err
@@ -95,7 +98,8 @@ if mount -t tmpfs -o ro,size=64k tmpfs ro 2>/dev/null; then
   "$bin" run --grid 32 --quiet --out ro/run 2>err
   rc=$?
   [ "$rc" = 1 ] && grep -q "ro/run" err || { echo "FAIL: read-only: exit $rc"; cat err; fail=1; }
-  [ $(($(date +%s) - start)) -le 5 ] || { echo "FAIL: read-only refused only after the solve"; fail=1; }
+  [ $(($(date +%s) - start)) -le 5 ] ||
+    { echo "FAIL: read-only refused only after the solve"; fail=1; }
   umount ro
 else
   echo "note: no read-only tmpfs here; that case is not checked"

@@ -39,12 +39,18 @@ PY
 "$bin" run --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 3 --quiet \
   --no-preview --no-report --out "$work/p"
 if [ -e "$work/p/preview.png" ]; then echo "FAIL: --no-preview left a preview.png"; exit 1; fi
-if grep -q preview_seconds "$work/p/report.json"; then echo "FAIL: preview_seconds without a preview"; exit 1; fi
+if grep -q preview_seconds "$work/p/report.json"; then
+  echo "FAIL: preview_seconds without a preview"
+  exit 1
+fi
 if [ -e "$work/p/report.html" ]; then echo "FAIL: --no-report left a report.html"; exit 1; fi
 "$bin" sweep --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --max-steps 3 --quiet \
   --no-plot --no-preview --no-report --out "$work/sweep"
 for f in gallery.png report.html G_0.50/preview.png G_0.50/report.html; do
   if [ -e "$work/sweep/$f" ]; then echo "FAIL: sweep --no-preview --no-report wrote $f"; exit 1; fi
 done
-if grep -q gallery_seconds "$work/sweep/sweep.json"; then echo "FAIL: gallery_seconds without a gallery"; exit 1; fi
+if grep -q gallery_seconds "$work/sweep/sweep.json"; then
+  echo "FAIL: gallery_seconds without a gallery"
+  exit 1
+fi
 echo "preview_png: --no-preview and --no-report passed"

@@ -83,8 +83,9 @@ PY
 # (sweep.csv's columns), the same numbers as the command's.
 "$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet \
   --no-report --properties-nodal --out "$work/gp" || { echo "FAIL: run --properties"; fail=1; }
-"$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet --no-preview \
-  --no-report --properties --out "$work/sp" || { echo "FAIL: sweep --properties"; fail=1; }
+"$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet \
+  --no-preview --no-report --properties --out "$work/sp" ||
+    { echo "FAIL: sweep --properties"; fail=1; }
 "$bin" properties --from "$work/gp" --quiet --out "$work/gp.json" || fail=1
 python3 - "$work/gp.json" "$work/gp/report.json" "$work/sp/sweep.csv" "$work/sp/sweep.json" \
   <<'PY' || fail=1

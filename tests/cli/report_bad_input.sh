@@ -11,7 +11,11 @@ expect() {  # expect CODE PATTERN DIR...
   local code="$1" pattern="$2"; shift 2
   "$bin" report "$@" >"$work/out" 2>"$work/err"
   local rc=$?
-  if [ "$rc" -ne "$code" ]; then echo "FAIL: report $* exited $rc, want $code"; cat "$work/err"; fail=1; fi
+  if [ "$rc" -ne "$code" ]; then
+    echo "FAIL: report $* exited $rc, want $code"
+    cat "$work/err"
+    fail=1
+  fi
   if ! grep -q -- "$pattern" "$work/err"; then
     echo "FAIL: report $*: message does not say '$pattern':"; cat "$work/err"; fail=1
   fi
@@ -38,9 +42,15 @@ mkdir -p "$work/victim" "$work/escape"
 cp -r "$work/run" "$work/victim/P_0.50"
 echo '{"surfaces": ["../victim/P"], "volume_fractions": [0.5]}' >"$work/escape/sweep.json"
 expect 1 "sweep.json.*member name '../victim/P_0.50'" "$work/escape"
-if compgen -G "$work/escape/gallery.png*" >/dev/null; then echo "FAIL: escape: wrote gallery.png"; fail=1; fi
+if compgen -G "$work/escape/gallery.png*" >/dev/null; then
+  echo "FAIL: escape: wrote gallery.png"
+  fail=1
+fi
 for d in empty badjson badvti nohist escape; do
-  if compgen -G "$work/$d/report.html*" >/dev/null; then echo "FAIL: $d: wrote report.html"; fail=1; fi
+  if compgen -G "$work/$d/report.html*" >/dev/null; then
+    echo "FAIL: $d: wrote report.html"
+    fail=1
+  fi
 done
 [ "$fail" -eq 0 ] && echo "report_bad_input: all passed"
 exit "$fail"

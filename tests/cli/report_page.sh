@@ -2,9 +2,9 @@
 # report.html (docs/report.md) of a run and of a sweep, opened by headless Chromium from a file
 # URL with no network: no script or console error, a non-blank WebGL view, the numbers equal to
 # report.json (the --properties table too, with its nodal column, and youngs_modulus.png and the
-# sweep's properties_chart.png on the pages); the sweep's gallery.png is a valid picture.
-# Skipped without Chromium
-# (scripts/test.sh installs Debian's chromium).
+# sweep's properties_chart.png on the pages); the sweep's gallery.png is a valid picture. The
+# browser checks are skipped (exit 77) without Chromium (scripts/test.sh installs Debian's
+# chromium) or the page's bundled script (a build without npm or with -DCMCSURF_WEB_VIEWER=OFF).
 set -eu
 bin="$1"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -42,6 +42,11 @@ rm "$work/g/report.html"
 [ -s "$work/g/report.html" ] || { echo "FAIL: report wrote no report.html"; exit 1; }
 if [ -z "$chromium" ]; then
   echo "report_page: browser checks skipped (no chromium: apt-get install chromium)"
+  exit 77
+fi
+if grep -q "built without npm" "$work/g/report.html"; then
+  echo "report_page: browser checks skipped (this cmcsurf was built without npm or with" \
+       "-DCMCSURF_WEB_VIEWER=OFF: its pages have no 3D view)"
   exit 77
 fi
 /usr/bin/python3 "$here/../page/check_page.py" "$chromium" "$work/g/report.html" "$work"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `run --fast` fills in the fast options it was not given, reports them, and lands on the
-# paper-faithful result (issue 5: area within 0.1 %, same volume fraction).
+# paper-faithful result (area within 0.1 %, same volume fraction).
 set -eu
 bin="$1"
 work=$(mktemp -d)

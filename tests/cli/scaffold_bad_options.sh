@@ -22,7 +22,8 @@ check_usage p.stl --graded-members "${s[@]}" --porosity 0.8:0.6 --graded-members
 check_usage q.stl --compare-nodal "${s[@]}" --porosity 0.8:0.6 --compare-nodal
 check_usage r.stl --skin "${s[@]}" --porosity 0.7 --skin 0.2
 check_usage s.stl --shape "${s[@]}" --porosity 0.7 --shape "$work/nosuch.stl"
-printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid x\n' >"$work/open.stl"
+printf '%s\n' 'solid x' ' facet normal 0 0 1' '  outer loop' '   vertex 0 0 0' '   vertex 1 0 0' \
+  '   vertex 0 1 0' '  endloop' ' endfacet' 'endsolid x' >"$work/open.stl"
 check_usage t.stl --shape "${s[@]}" --porosity 0.7 --shape "$work/open.stl"
 check_usage u.stl --size "${s[@]}" --porosity 0.7 --shape "$work/open.stl" --size 4
 if [ -e "$work/cache" ]; then echo "FAIL: a member was computed for bad input"; fail=1; fi

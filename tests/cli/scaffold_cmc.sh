@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# cmcsurf scaffold on real CMC members (issue 17's tests, docs/scaffolds.md): G and P, sheet and
-# network, at 32^3 with --fast, one cache folder for all (three members are computed: G and P
+# cmcsurf scaffold on real CMC members (docs/scaffolds.md): G and P, sheet and network, at
+# 32^3 with --fast, one cache folder for all (three members are computed: G and P
 # at alpha 0.5, G at 0.3; the other parts reuse them). Each part is one piece whose pores
 # percolate along x, y and z, with the porosity within 1e-3 of the target; the G sheet's 3MF is
 # read back by lib3mf itself (through ctypes: triangle count, unit, Description, build item,
@@ -8,12 +8,6 @@
 # 0.5 % of the undecimated volume.
 set -u
 bin="$1"
-# Under the sanitizers (scripts/test.sh's checked build) this would cost several times its
-# 12 s of CPU for code that scaffold_outputs.sh and the Part.* unit tests run there at 16^3.
-if grep -qa __asan_init "$bin"; then
-  echo "scaffold_cmc: skipped in the sanitizer build (its code runs there in scaffold_outputs)"
-  exit 77
-fi
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -36,11 +30,13 @@ for p in "${parts[@]}"; do
 done
 # A sheet decimated to a budget (about a fifth of its 81k triangles): the G member is reused.
 "$bin" scaffold --surface G --solid sheet --porosity 0.7 --size 2 "${common[@]}" \
-  --max-triangles 15000 --out "$work/gs_small.stl" || { echo "FAIL: scaffold --max-triangles"; fail=1; }
+  --max-triangles 15000 --out "$work/gs_small.stl" ||
+    { echo "FAIL: scaffold --max-triangles"; fail=1; }
 "$bin" scaffold --surface G --solid sheet --porosity 0.7 --size 2 "${common[@]}" \
   --out "$work/gs_full.stl" || { echo "FAIL: scaffold undecimated"; fail=1; }
 check_members=$(ls "$work/cache" | wc -l)
-[ "$check_members" -eq 3 ] || { echo "FAIL: $check_members members cached, want 3 (G 0.5, G 0.3, P 0.5)"; fail=1; }
+[ "$check_members" -eq 3 ] ||
+  { echo "FAIL: $check_members members cached, want 3 (G 0.5, G 0.3, P 0.5)"; fail=1; }
 
 /usr/bin/python3 - "$work" "${parts[@]}" <<'PY' || { echo "FAIL: part checks"; fail=1; }
 import ctypes, json, struct, sys
@@ -133,7 +129,8 @@ for spec in sys.argv[2:]:
     name = f"{surface} {solid} {porosity}"
     assert abs(r["porosity"] - float(porosity)) <= 1e-3, (name, r["porosity"])
     assert r["checks"]["closed"] and r["checks"]["manifold"], (name, r["checks"])
-    assert t["solid_components"] - t["fragments"] == 1 and (t["fragments"] == 0 or t["fragments_removed"]), (name, t)
+    assert t["solid_components"] - t["fragments"] == 1 and \
+        (t["fragments"] == 0 or t["fragments_removed"]), (name, t)
     assert all(t["pore_percolates"][a] for a in "xyz") and t["closed_pores"] == 0, (name, t)
     if out.endswith(".3mf"):
         unit, meta, tri, builds = read_3mf(f"{work}/{out}")
@@ -153,7 +150,8 @@ small = json.load(open(f"{work}/gs_small.stl.json"))
 full = json.load(open(f"{work}/gs_full.stl.json"))
 dm = small["decimation"]
 assert dm["applied"] and dm["within_budget"] and small["triangles"] <= 15000, dm
-assert dm["triangles_before"] == full["triangles"] and full["triangles"] > 3 * 15000, (dm, full["triangles"])
+assert dm["triangles_before"] == full["triangles"] and full["triangles"] > 3 * 15000, \
+    (dm, full["triangles"])
 assert small["checks"]["closed"] and small["checks"]["manifold"], small["checks"]
 assert abs(small["volume"] / full["volume"] - 1) <= 5e-3, (small["volume"], full["volume"])
 assert 0 < dm["error"] <= dm["hausdorff_bound"] < 0.1, dm  # mm, for 2 mm cells

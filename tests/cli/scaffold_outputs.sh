@@ -26,7 +26,8 @@ check test "$(ls "$work/cache")" != ""
 check grep -q "reusing the member" "$work/again.txt"
 json_has "$work/again.stl.json" reused true
 "$bin" scaffold --surface P --porosity 0.6 --solid sheet --size 4x4x5 "${common[@]}" \
-  --min-feature 5 --out "$work/sheet.stl" 2>"$work/sheet.txt" || { echo "FAIL: scaffold sheet"; fail=1; }
+  --min-feature 5 --out "$work/sheet.stl" 2>"$work/sheet.txt" ||
+    { echo "FAIL: scaffold sheet"; fail=1; }
 json_has "$work/sheet.stl.json" closed true
 check grep -q '"thickness":' "$work/sheet.stl.json"
 check grep -q "below --min-feature" "$work/sheet.txt"
@@ -43,13 +44,15 @@ for name, target in (("net.3mf", 0.7), ("sheet.stl", 0.6)):
 c = json.load(open(f"{w}/net.3mf.json"))["compare_nodal"]
 # Both sides measured (at 16^3 the interface is under-resolved, so no ordering is asserted).
 assert abs(c["nodal"]["porosity"] - 0.7) <= 1e-3, c
-assert all(c[s]["mean_curvature_std"] > 0 and c[s]["wall_thickness"]["mean"] > 0 for s in ("cmc", "nodal")), c
+assert all(c[s]["mean_curvature_std"] > 0 and c[s]["wall_thickness"]["mean"] > 0
+           for s in ("cmc", "nodal")), c
 z = zipfile.ZipFile(f"{w}/net.3mf")
 assert z.testzip() is None
 info = z.getinfo("3D/3dmodel.model")
 assert info.compress_type == zipfile.ZIP_DEFLATED and info.compress_size < info.file_size / 3, info
 model = z.read("3D/3dmodel.model").decode()
-assert all(s in model for s in ('unit="millimeter"', "<build", "<item ", 'name="Description"')), model[:600]
+assert all(s in model for s in ('unit="millimeter"', "<build", "<item ", 'name="Description"')), \
+    model[:600]
 PY
 # Decimation to a budget: applied, within it, still a closed manifold.
 "$bin" scaffold --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" --max-triangles 20000 \
@@ -67,7 +70,7 @@ json_has "$work/big.stl.json" applied false
 check grep -q '"note": "the input is within the budget' "$work/big.stl.json"
 check test ! -s "$work/big.txt"
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written:
-# first as a member of another topology than P's (issue 23), then, taken anyway, as closed.
+# first as a member of another topology than P's, then, taken anyway, as closed.
 "$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
 rc=$?

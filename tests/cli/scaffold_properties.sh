@@ -5,12 +5,6 @@
 # member with the part's wall thickness; a ramp or --material alone refused with exit 2.
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
-# Under the sanitizers (scripts/test.sh's checked build) the four solves of the cells cost
-# minutes; their kernels run there in the unit tests, the option checks in scaffold_bad_options.
-if grep -qa __asan_init "$bin"; then
-  echo "scaffold_properties: skipped in the sanitizer build (whole solves)"
-  exit 77
-fi
 export OMP_NUM_THREADS=1
 common=(--surface G --grid 16 --epsilon 0.04 --fast --cell-size 2 --units mm --size 2
         --cache "$work/cache")

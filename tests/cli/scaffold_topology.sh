@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 23: a member of another topology than its family's is refused by scaffold and mesh
+# A member of another topology than its family's is refused by scaffold and mesh
 # (exit 1, both Euler characteristics named, nothing written) unless --accept-topology-change;
 # the scaffold cache keeps a CRC-32 of each member's field and recomputes a damaged entry.
 set -u

@@ -19,7 +19,8 @@ expect_usage --volume-fraction --volume-fraction 0.3
 expect_usage --groups --groups 2  # one process: only 1 (or 0, automatic)
 expect_usage --groups --groups -1
 "$bin" sweep --help | grep -q -- --continuation || { echo "FAIL: sweep --help"; fail=1; }
-"$bin" sweep --help | grep -q -- "--groups.*mpirun" || { echo "FAIL: sweep --help lacks --groups"; fail=1; }
+"$bin" sweep --help | grep -q -- "--groups.*mpirun" ||
+  { echo "FAIL: sweep --help lacks --groups"; fail=1; }
 "$bin" --help | grep -q sweep || { echo "FAIL: sweep hidden from --help"; fail=1; }
 [ "$fail" -eq 0 ] && echo "sweep_bad_options: all passed"
 exit "$fail"

@@ -6,6 +6,7 @@
 # sweep.json whose parameters are out of range are refused.
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
@@ -25,13 +26,16 @@ kill -TERM $pid
 wait $pid
 rc=$?
 [ $rc = 143 ] || { echo "FAIL: SIGTERM exited $rc"; cat "$work/cut.log"; fail=1; }
-grep -q "resume with: .* sweep --resume $work/cut" "$work/cut.log" || { echo "FAIL: no hint"; fail=1; }
-[ -s "$work/cut/P_0.40/checkpoint.bin" ] || { echo "FAIL: no member checkpoint"; ls -R "$work/cut"; fail=1; }
+grep -q "resume with: .* sweep --resume $work/cut" "$work/cut.log" ||
+  { echo "FAIL: no hint"; fail=1; }
+[ -s "$work/cut/P_0.40/checkpoint.bin" ] ||
+  { echo "FAIL: no member checkpoint"; ls -R "$work/cut"; fail=1; }
 [ ! -e "$work/cut/P_0.50" ] || { echo "FAIL: a later member started"; fail=1; }
 
 "$bin" sweep --resume "$work/cut" --grid 64 2>"$work/err"
 rc=$?
-[ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" || { echo "FAIL: --grid 64 exit $rc"; cat "$work/err"; fail=1; }
+[ $rc = 2 ] && grep -q -- "--grid 64" "$work/err" ||
+  { echo "FAIL: --grid 64 exit $rc"; cat "$work/err"; fail=1; }
 # sweep.json edited out of range (a parameter, a volume fraction): exit 2 naming it, nothing
 # changes.
 for edit in 's["parameters"]["epsilon"] = -1' 's["volume_fractions"][1] = 1.5'; do
@@ -55,22 +59,20 @@ $hint 2>"$work/resume.log" || { echo "FAIL: resume"; cat "$work/resume.log"; fai
 [ "$(ls "$work/whole")" = "$(ls "$work/cut")" ] ||
   { echo "FAIL: files: $(ls "$work/whole") vs $(ls "$work/cut")"; fail=1; }
 grep -q "P_0.30: complete, kept" "$work/resume.log" || { echo "FAIL: P_0.30 not kept"; fail=1; }
-python3 - "$work/whole" "$work/cut" <<'PY' || fail=1
+PYTHONPATH="$support" python3 - "$work/whole" "$work/cut" <<'PY' || fail=1
 import csv, json, sys
+from report_keys import differing_keys
 a, b = (list(csv.DictReader(open(f"{d}/sweep.csv"))) for d in sys.argv[1:3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds"}
 assert len(a) == len(b) == 3, (len(a), len(b))
 for x, y in zip(a, b):
-    diff = [k for k in set(x) | set(y) if k not in timing and x.get(k) != y.get(k)]
+    diff = differing_keys(x, y)
     assert not diff, f"{x['member']}: {diff}"
 s = json.load(open(f"{sys.argv[2]}/sweep.json"))
 assert s["complete"] and s["resumed"] == {"members_kept": 1, "members_resumed": 1}, s
 PY
 for m in P_0.30 P_0.40 P_0.50; do
-  cmp -s <(grep -av seconds "$work/whole/$m/field.vti") <(grep -av seconds "$work/cut/$m/field.vti") ||
+  cmp -s <(grep -av seconds "$work/whole/$m/field.vti") \
+    <(grep -av seconds "$work/cut/$m/field.vti") ||
     { echo "FAIL: $m/field.vti differs"; fail=1; }
   [ ! -e "$work/cut/$m/checkpoint.bin" ] || { echo "FAIL: $m/checkpoint.bin left"; fail=1; }
 done

@@ -22,8 +22,10 @@ s = json.load(open(sys.argv[1]))
 s["complete"] = False
 json.dump(s, open(sys.argv[1], "w"))
 PY
-"$bin" sweep --resume "$work/cut" 2>"$work/resume.log" || { echo "FAIL: resume"; cat "$work/resume.log"; fail=1; }
-[ "$(grep -c "complete, kept" "$work/resume.log")" = 2 ] || { echo "FAIL: not 2 members kept"; cat "$work/resume.log"; fail=1; }
+"$bin" sweep --resume "$work/cut" 2>"$work/resume.log" ||
+  { echo "FAIL: resume"; cat "$work/resume.log"; fail=1; }
+[ "$(grep -c "complete, kept" "$work/resume.log")" = 2 ] ||
+  { echo "FAIL: not 2 members kept"; cat "$work/resume.log"; fail=1; }
 cmp -s "$work/whole/gallery.png" "$work/cut/gallery.png" ||
   { echo "FAIL: the resumed sweep's gallery.png is not the uninterrupted one's"; fail=1; }
 [ "$(ls "$work/whole")" = "$(ls "$work/cut")" ] ||

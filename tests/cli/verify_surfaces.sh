@@ -13,10 +13,12 @@ done
 # Two steps leave the cube a cube: the checks fail and so does the command (exit 1).
 rc=0
 out=$("$bin" verify --only cube --cube-grid 16 --cube-steps 2 --quiet) || rc=$?
-[ "$rc" -eq 1 ] || { echo "FAIL: verify of an unrelaxed cube exited $rc, want 1"; echo "$out"; exit 1; }
+[ "$rc" -eq 1 ] ||
+  { echo "FAIL: verify of an unrelaxed cube exited $rc, want 1"; echo "$out"; exit 1; }
 echo "$out" | grep -q "sphericity" || { echo "FAIL: verify cube output"; echo "$out"; exit 1; }
 echo "$out" | grep -q "cube 0.806, sphere 1" || { echo "FAIL: verify prints no reference"; exit 1; }
-echo "$out" | grep -q "^  FAIL relaxed within 2 steps" || { echo "FAIL: no failed check"; echo "$out"; exit 1; }
+echo "$out" | grep -q "^  FAIL relaxed within 2 steps" ||
+  { echo "FAIL: no failed check"; echo "$out"; exit 1; }
 echo "$out" | grep -q "check(s) FAILED" || { echo "FAIL: no failure summary"; echo "$out"; exit 1; }
 rc=0
 "$bin" verify --only cube --cube-steps 0 >/dev/null 2>&1 || rc=$?

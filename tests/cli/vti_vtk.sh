@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # field.vti read by VTK itself (python3-vtk9), when it is installed: dimensions, spacing, origin
 # and the values (their mean is report.json's mass), and VTK's contour at 0.5 against
-# report.json's area_iso to 2e-3 (issue 18).
+# report.json's area_iso to 2e-3.
 set -eu
 bin="$1"
 if ! /usr/bin/python3 -c "import vtk" 2>/dev/null; then

@@ -126,7 +126,8 @@ TEST(Pvti, AssembledPiecesEqualTheSerialFile) {
   const std::map<std::string, std::string> meta = {{"surface", "G"}, {"area", "2.25"}};
   for (const bool float32 : {false, true}) {
     const std::string suffix = float32 ? "32" : "";
-    const fs::path pvti = out / ("field" + suffix + ".pvti"), serial = out / ("serial" + suffix + ".vti");
+    const fs::path pvti = out / ("field" + suffix + ".pvti"),
+                   serial = out / ("serial" + suffix + ".vti");
     write_pvti(pvti, {{"phi", &phi_block}, {"nu", &nu_block}}, float32, meta);
     if (world()->rank() == 0) write_vti(serial, {{"phi", &phi}, {"nu", &nu}}, float32, meta);
     barrier();
@@ -212,7 +213,8 @@ TEST(Pvti, RefusesSummariesThatDoNotMatchTheirPieces) {
   write_pvti(tmp / "field.pvti", {{"phi", &phi}});
   if (world()->rank() == 0) {
     const std::string good = slurp(tmp / "field.pvti");
-    const std::size_t first = good.find("    <Piece "), second = good.find("    <Piece ", first + 1);
+    const std::size_t first = good.find("    <Piece "),
+                      second = good.find("    <Piece ", first + 1);
     const std::size_t end_second = good.find('\n', second) + 1;
     const std::string line0 = good.substr(first, second - first);
     const std::string line1 = good.substr(second, end_second - second);
@@ -232,8 +234,9 @@ TEST(Pvti, RefusesSummariesThatDoNotMatchTheirPieces) {
       return line.substr(s, line.find("/>") - s);
     };
     std::string swapped = good;
-    swapped.replace(second, line1.size(),
-                    std::string(line1).replace(line1.find("Source="), source(line1).size(), source(line0)));
+    swapped.replace(
+        second, line1.size(),
+        std::string(line1).replace(line1.find("Source="), source(line1).size(), source(line0)));
     refused(swapped, "differs from the Extent=");
     fs::rename(tmp / "field" / "piece_0001.vti", tmp / "moved.vti");
     refused(good, "piece 1 'field/piece_0001.vti' is missing");
@@ -294,7 +297,8 @@ TEST(CheckpointPieces, KeepEveryBitAndNoWholeGridIsWritten) {
   write_checkpoint(file, params, c);  // a second: the first one's pieces go
   barrier();
   int pieces = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(checkpoint_piece_dir(file))) ++pieces;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(checkpoint_piece_dir(file)))
+    ++pieces;
   EXPECT_EQ(pieces, world()->ranks());
   // The main file holds the header alone.
   EXPECT_LT(fs::file_size(file), std::uintmax_t(16) * 16 * 16 * 8);
@@ -330,7 +334,8 @@ TEST(CheckpointPieces, KeepEveryBitAndNoWholeGridIsWritten) {
   if (world()->rank() == 0) {
     for (const auto& e : fs::directory_iterator(checkpoint_piece_dir(file))) {
       const std::string name = e.path().filename().string();
-      if (name.find(fmt::format("-r{:06d}.bin", world()->ranks() - 1)) == std::string::npos) continue;
+      if (name.find(fmt::format("-r{:06d}.bin", world()->ranks() - 1)) == std::string::npos)
+        continue;
       std::string bytes = slurp(e.path());
       bytes[bytes.size() / 2] ^= 1;
       std::ofstream(e.path(), std::ios::binary) << bytes;

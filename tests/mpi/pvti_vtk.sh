@@ -47,8 +47,10 @@ for suffix, dtype in (("", numpy.float64), ("32", numpy.float32)):
     s.Update()
     a, b = p.GetOutput(), s.GetOutput()
     # 16 cells per axis: 17 points, the last the periodic wrap.
-    assert a.GetDimensions() == b.GetDimensions() == (17, 17, 17), (a.GetDimensions(), b.GetDimensions())
-    assert a.GetExtent() == b.GetExtent() and a.GetOrigin() == b.GetOrigin() and a.GetSpacing() == b.GetSpacing()
+    assert a.GetDimensions() == b.GetDimensions() == (17, 17, 17), \
+        (a.GetDimensions(), b.GetDimensions())
+    assert a.GetExtent() == b.GetExtent() and a.GetOrigin() == b.GetOrigin() and \
+        a.GetSpacing() == b.GetSpacing()
     for name in ("phi", "nu"):
         x = vtk_to_numpy(a.GetPointData().GetArray(name))
         y = vtk_to_numpy(b.GetPointData().GetArray(name))

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # mpirun -np P cmcsurf run against the same run on one process: same steps and V-cycles,
 # area, volume fraction and mass to round-off; outputs written once (the field: one piece per
-# rank, field.pvti); the field readable by `cmcsurf mesh`; bad input under mpirun exits 2 on every rank, writing nothing.
+# rank, field.pvti); the field readable by `cmcsurf mesh`; bad input under mpirun exits 2 on
+# every rank, writing nothing.
 # Usage: run_vs_serial.sh <cmcsurf> <ranks> <mpiexec>
 set -u
 bin="$1"
@@ -84,7 +85,8 @@ fi
 [ "$(wc -l <"$work/serial/history.csv")" = "$(wc -l <"$work/mpi/history.csv")" ] \
   || { echo "FAIL: history.csv lengths differ"; fail=1; }
 # The field of an MPI run meshes like any other (cmcsurf mesh is serial).
-"$bin" mesh --from "$work/mpi" --out "$work/mpi.stl" --quiet || { echo "FAIL: mesh of mpi field"; fail=1; }
+"$bin" mesh --from "$work/mpi" --out "$work/mpi.stl" --quiet ||
+  { echo "FAIL: mesh of mpi field"; fail=1; }
 test -s "$work/mpi.stl" || { echo "FAIL: no mesh"; fail=1; }
 # run --mesh under mpirun meshes plane by plane on rank 0 (no whole-grid gather): the serial
 # mesher's file of the same field, byte for byte.
@@ -94,7 +96,8 @@ cmp -s "$work/mpi.stl" "$work/mpi/surface.stl" \
 # The fast mode's per-step algorithms (extrapolated guesses, adaptive dt, relative V-cycle
 # stop) on blocks: the same steps and result as on one process.
 fast=(--extrapolate --dt-max-factor 8 --mg-rtol 1e-2)
-"$bin" "${args[@]}" "${fast[@]}" --out "$work/serial-fast" || { echo "FAIL: serial fast run"; exit 1; }
+"$bin" "${args[@]}" "${fast[@]}" --out "$work/serial-fast" ||
+  { echo "FAIL: serial fast run"; exit 1; }
 mpi "${args[@]}" "${fast[@]}" --out "$work/mpi-fast" >"$work/stdout" 2>"$work/stderr" \
   || { echo "FAIL: mpirun -np $np fast run"; cat "$work/stderr"; exit 1; }
 python3 - "$work/serial-fast/report.json" "$work/mpi-fast/report.json" <<'PY' || fail=1
@@ -115,9 +118,12 @@ expect_usage() {
   local name="$1" opt="$2"; shift 2
   mpi "$@" --out "$work/$name" >"$work/stdout" 2>"$work/stderr"
   local rc=$?
-  [ "$rc" -eq 2 ] || { echo "FAIL: '$*' under mpirun exited $rc, want 2"; cat "$work/stderr"; fail=1; }
-  grep -q -- "$opt" "$work/stderr" || { echo "FAIL: '$*' does not name $opt"; cat "$work/stderr"; fail=1; }
-  [ "$(grep -c '^error:' "$work/stderr")" -eq 1 ] || { echo "FAIL: not one message:"; cat "$work/stderr"; fail=1; }
+  [ "$rc" -eq 2 ] ||
+    { echo "FAIL: '$*' under mpirun exited $rc, want 2"; cat "$work/stderr"; fail=1; }
+  grep -q -- "$opt" "$work/stderr" ||
+    { echo "FAIL: '$*' does not name $opt"; cat "$work/stderr"; fail=1; }
+  [ "$(grep -c '^error:' "$work/stderr")" -eq 1 ] ||
+    { echo "FAIL: not one message:"; cat "$work/stderr"; fail=1; }
   if compgen -G "$work/$name*" >/dev/null; then echo "FAIL: '$*' wrote $name"; fail=1; fi
 }
 expect_usage lex "--smoother" "${args[@]}" --smoother lex

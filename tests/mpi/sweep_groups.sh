@@ -9,6 +9,7 @@
 # Usage: sweep_groups.sh <cmcsurf> <ranks> <mpiexec>
 set -u
 bin="$1"
+support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
 np="$2"
 mpiexec="$3"
 export OMP_NUM_THREADS=1  # the serial reference on one thread, as each rank below
@@ -30,10 +31,8 @@ cat >"$work/compare.py" <<'PY'
 import csv, sys
 a, b = (list(csv.DictReader(open(f"{d}/sweep.csv"))) for d in sys.argv[1:3])
 tol = float(sys.argv[3])
-timing = {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds",
-          "volume_seconds", "seconds_per_vcycle", "peak_memory_bytes",
-          "peak_memory_bytes_per_cell", "checkpoints_written", "checkpoint_seconds",
-          "resumed_from_step", "preview_seconds", "page_seconds", "write_seconds", "surface_mesh_seconds", "threads"}
+from report_keys import TIMING_KEYS
+timing = TIMING_KEYS | {"threads"}  # the serial sweep and the groups use other thread counts
 bad = []
 if [r["member"] for r in a] != [r["member"] for r in b]:
     bad.append(f"members {[r['member'] for r in a]} vs {[r['member'] for r in b]}")
@@ -73,9 +72,11 @@ files() {
 # 2 groups (np 2: of one rank; np 4: of two ranks, each member decomposed 1 x 1 x 2).
 mpi "${args[@]}" --groups 2 --out "$work/g2" 2>"$work/g2.log"
 rc=$?
-[ $rc = 0 ] || { echo "FAIL: mpirun -np $np sweep --groups 2 exited $rc"; cat "$work/g2.log"; exit 1; }
-grep -q "in 2 groups of $((np / 2))" "$work/g2.log" || { echo "FAIL: no plan printed"; cat "$work/g2.log"; fail=1; }
-python3 "$work/compare.py" "$work/serial" "$work/g2" 1e-12 || fail=1
+[ $rc = 0 ] ||
+  { echo "FAIL: mpirun -np $np sweep --groups 2 exited $rc"; cat "$work/g2.log"; exit 1; }
+grep -q "in 2 groups of $((np / 2))" "$work/g2.log" ||
+  { echo "FAIL: no plan printed"; cat "$work/g2.log"; fail=1; }
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/serial" "$work/g2" 1e-12 || fail=1
 if [ "$np" = 4 ]; then  # groups of two: every member's field in two pieces, read by mesh --from
   for d in "$work"/g2/*/; do
     [ "$(ls "$d/field" 2>/dev/null | grep -c '^piece_[0-9]*\.vti$')" = 2 ] ||
@@ -108,8 +109,9 @@ PY
 # The automatic plan: a member per rank (np groups of one), the serial code bit for bit.
 mpi "${args[@]}" --no-plot --out "$work/auto" 2>"$work/auto.log" ||
   { echo "FAIL: mpirun sweep without --groups"; cat "$work/auto.log"; fail=1; }
-grep -q "in $np groups of 1" "$work/auto.log" || { echo "FAIL: automatic plan"; cat "$work/auto.log"; fail=1; }
-python3 "$work/compare.py" "$work/serial" "$work/auto" 0 || fail=1
+grep -q "in $np groups of 1" "$work/auto.log" ||
+  { echo "FAIL: automatic plan"; cat "$work/auto.log"; fail=1; }
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/serial" "$work/auto" 0 || fail=1
 
 # Continuation: each family runs in order on one group (np 4: 2 groups of 2).
 cargs=(sweep --surface P,D --volume-fractions 0.4,0.5,0.6 --grid 16 --max-steps 12 --tol 1e-30
@@ -119,7 +121,7 @@ mpi "${cargs[@]}" --out "$work/cmpi" 2>"$work/cmpi.log" ||
   { echo "FAIL: mpirun sweep --continuation"; cat "$work/cmpi.log"; fail=1; }
 grep -q "group 0 (ranks .*): P_0.40, P_0.50, P_0.60$" "$work/cmpi.log" ||
   { echo "FAIL: a family split between groups"; cat "$work/cmpi.log"; fail=1; }
-python3 "$work/compare.py" "$work/cserial" "$work/cmpi" 1e-12 || fail=1
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/cserial" "$work/cmpi" 1e-12 || fail=1
 
 # Resume under groups: the first member of each family complete, the rest to run (from the
 # kept member's field.vti, cut into the group's blocks).
@@ -127,10 +129,11 @@ cp -r "$work/cserial" "$work/cres"
 rm -rf "$work/cres/P_0.50" "$work/cres/P_0.60" "$work/cres/D_0.50" "$work/cres/D_0.60"
 mpi sweep --resume "$work/cres" 2>"$work/cres.log" ||
   { echo "FAIL: mpirun sweep --resume"; cat "$work/cres.log"; fail=1; }
-python3 "$work/compare.py" "$work/cserial" "$work/cres" 1e-12 || fail=1
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/cserial" "$work/cres" 1e-12 || fail=1
 python3 -c "
 import json, sys; s = json.load(open('$work/cres/sweep.json'))
-sys.exit(0 if s['complete'] and s['resumed'] == {'members_kept': 2, 'members_resumed': 0} else 1)" ||
+ok = s['complete'] and s['resumed'] == {'members_kept': 2, 'members_resumed': 0}
+sys.exit(0 if ok else 1)" ||
   { echo "FAIL: resumed sweep.json"; cat "$work/cres/sweep.json"; fail=1; }
 
 # SIGTERM to the ranks (mpirun passes it on): every group stops its member after one agreed
@@ -150,13 +153,14 @@ done
 pkill -TERM -P "$(pgrep -P $pid | head -1)"
 wait $pid
 rc=$?
-[ $rc = 143 ] || { echo "FAIL: SIGTERM to the ranks: exit $rc, want 143"; cat "$work/cut.log"; fail=1; }
+[ $rc = 143 ] ||
+  { echo "FAIL: SIGTERM to the ranks: exit $rc, want 143"; cat "$work/cut.log"; fail=1; }
 grep -q "resume with: mpirun -np $np .* sweep --resume $work/cut" "$work/cut.log" ||
   { echo "FAIL: no resume hint"; cat "$work/cut.log"; fail=1; }
 [ -s "$work/cut/P_0.40/checkpoint.bin" ] || { echo "FAIL: no checkpoint of P_0.40"; fail=1; }
 mpi sweep --resume "$work/cut" 2>"$work/resume.log" ||
   { echo "FAIL: resume after SIGTERM"; cat "$work/resume.log"; fail=1; }
-python3 "$work/compare.py" "$work/sserial" "$work/cut" 1e-12 || fail=1
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/sserial" "$work/cut" 1e-12 || fail=1
 if find "$work/cut" -name 'checkpoint*' | grep -q .; then echo "FAIL: checkpoint left"; fail=1; fi
 
 # An error in one group (a file where its member's folder goes, in a folder that is the sweep's
@@ -165,8 +169,10 @@ if find "$work/cut" -name 'checkpoint*' | grep -q .; then echo "FAIL: checkpoint
 mkdir "$work/err" && : >"$work/err/.cmcsurf" && echo x >"$work/err/P_0.60"
 mpi "${args[@]}" --groups 2 --no-plot --no-preview --out "$work/err" 2>"$work/err.log"
 rc=$?
-[ $rc = 1 ] || { echo "FAIL: an error in one group exited $rc, want 1"; cat "$work/err.log"; fail=1; }
-grep -q "^group 1: error: .*P_0.60" "$work/err.log" || { echo "FAIL: no group 1 error"; cat "$work/err.log"; fail=1; }
+[ $rc = 1 ] ||
+  { echo "FAIL: an error in one group exited $rc, want 1"; cat "$work/err.log"; fail=1; }
+grep -q "^group 1: error: .*P_0.60" "$work/err.log" ||
+  { echo "FAIL: no group 1 error"; cat "$work/err.log"; fail=1; }
 for m in P_0.40 D_0.40; do
   [ -s "$work/err/$m/report.json" ] || { echo "FAIL: group 0 did not finish $m"; fail=1; }
 done

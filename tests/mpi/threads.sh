@@ -11,7 +11,8 @@ mpiexec="$3"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
-cpus=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)  # this machine is the node (nproc obeys OMP_*)
+# This machine is the node (nproc obeys OMP_*).
+cpus=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)
 # CTest's environment sets OMP_NUM_THREADS=1 for the MPI tests; the defaults are the point
 # here, so every mpirun below runs under `env -u OMP_NUM_THREADS` or sets it.
 
@@ -21,7 +22,8 @@ cpus=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)  # this machine is the 
 check() {
   python3 - "$1" "$np" "$cpus" "$2" <<'PY'
 import json, sys
-report, np, cpus, want = json.load(open(sys.argv[1])), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+report, np, cpus = json.load(open(sys.argv[1])), int(sys.argv[2]), int(sys.argv[3])
+want = sys.argv[4]
 per_rank = report.get("threads_per_rank")
 print(f"{sys.argv[1]}: threads {report['threads']} threads_per_rank {per_rank} on {cpus} CPUs, "
       f"wall {report['wall_seconds']:.2f} s")
@@ -49,7 +51,8 @@ timeout 60 env -u OMP_NUM_THREADS "$mpiexec" -np "$np" --oversubscribe \
   "$bin" run --surface D --grid 32 --quiet --no-preview --no-report --out "$work/default" \
   2>"$work/stderr"
 rc=$?
-echo "mpirun -np $np run --surface D --grid 32: exit $rc in $((($(date +%s%N) - start) / 1000000)) ms"
+ms=$((($(date +%s%N) - start) / 1000000))
+echo "mpirun -np $np run --surface D --grid 32: exit $rc in $ms ms"
 [ "$rc" -eq 0 ] || { echo "FAIL: exit $rc (124: over 60 s)"; cat "$work/stderr"; exit 1; }
 check "$work/default/report.json" default || fail=1
 if grep -q "^warning: .*OpenMP threads" "$work/stderr"; then
@@ -76,7 +79,8 @@ expect_explicit() {
   warnings=$(grep -c "^warning: .*OpenMP threads" "$work/stderr")
   [ $((want * np)) -gt $((cpus > np ? cpus : np)) ] && expect=1
   [ "$warnings" -eq "$expect" ] \
-    || { echo "FAIL: $name: $warnings oversubscription warnings, want $expect"; cat "$work/stderr"; fail=1; }
+    || { echo "FAIL: $name: $warnings oversubscription warnings, want $expect"; cat "$work/stderr"
+         fail=1; }
 }
 over=$((cpus + 1))  # more than the node's CPUs on any number of ranks
 expect_explicit env "$over" "$over"

@@ -119,7 +119,8 @@ def main():
     reports = {}
     checked = 0
     for member, key, value, text in parsed.cells:
-        path = os.path.join(folder, member, "report.json") if member else os.path.join(folder, "report.json")
+        path = os.path.join(folder, member, "report.json") if member else \
+            os.path.join(folder, "report.json")
         report = reports.setdefault(path, json.load(open(path)))
         assert key in report, (path, key)
         if value is None:
@@ -172,19 +173,24 @@ def main():
     x1, y1 = min(x1, w), min(y1, h)
     assert x1 - x0 > 100 and y1 - y0 > 100, (x0, y0, x1, y1, w, h)
     var, coloured = region_stats(rows, x0 + 2, y0 + 2, x1 - 2, y1 - 2)
-    assert var > 50 and coloured > 0.05, f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
+    assert var > 50 and coloured > 0.05, \
+        f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
     # The other views (nodal twin or another member, 2^3 and 3^3 tiles) from the address.
     members = [m for m, _, _, _ in parsed.cells if m]
-    views = [(f"#member={members[-1]}&tiles={t}", f"{members[-1]},{t}") for t in (2, 3)] if members \
-        else [(f"#nodal&tiles={t}", f"nodal,{t}") for t in (2, 3)] + [("#tiles=3", "relaxed,3")]
+    if members:
+        views = [(f"#member={members[-1]}&tiles={t}", f"{members[-1]},{t}") for t in (2, 3)]
+    else:
+        views = [(f"#nodal&tiles={t}", f"nodal,{t}") for t in (2, 3)] + [("#tiles=3", "relaxed,3")]
     for fragment, shown in views:
         dom, log = chromium(exe, page, work, "--dump-dom", fragment=fragment)
         view = Cells()
         view.feed(dom)
-        assert "Uncaught" not in log and view.status.get("data-status") == "ok", (fragment, view.status)
+        assert "Uncaught" not in log and view.status.get("data-status") == "ok", \
+            (fragment, view.status)
         assert view.status.get("data-shown") == shown, (fragment, view.status)
-    print(f"check_page: {os.path.basename(folder)}: status ok, {checked} numbers equal report.json, "
-          f"view variance {var:.0f}, coloured {coloured:.2f}; views {', '.join(f for f, _ in views)} ok")
+    names = ", ".join(f for f, _ in views)
+    print(f"check_page: {os.path.basename(folder)}: status ok, {checked} numbers equal "
+          f"report.json, view variance {var:.0f}, coloured {coloured:.2f}; views {names} ok")
 
 
 main()

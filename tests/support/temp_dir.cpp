@@ -24,8 +24,8 @@ TempDir::TempDir(std::string_view prefix) {
       return;
     }
     if (ec && ec != std::errc::file_exists)
-      throw std::runtime_error(
-          fmt::format("cannot create temporary directory '{}': {}", candidate.string(), ec.message()));
+      throw std::runtime_error(fmt::format("cannot create temporary directory '{}': {}",
+                                           candidate.string(), ec.message()));
   }
   throw std::runtime_error("cannot create a unique temporary directory under " + base.string());
 }
