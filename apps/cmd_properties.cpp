@@ -88,7 +88,8 @@ void print_summary(const nlohmann::json& j) {
   auto row = [&](const std::string& label, const char* key, int index, const char* sub = nullptr) {
     std::string line = fmt::format("{:<34}", label);
     for (const auto& s : sides) {
-      const nlohmann::json& side = sub ? (*s.second).value(sub, nlohmann::json::object()) : *s.second;
+      const nlohmann::json& side =
+          sub ? (*s.second).value(sub, nlohmann::json::object()) : *s.second;
       line += fmt::format("{:>14}", number(side, key, index));
     }
     std::cerr << line << "\n";
@@ -110,11 +111,13 @@ void print_summary(const nlohmann::json& j) {
   if (j.contains("conductivity_solid")) {
     std::string line = fmt::format("{:<34}", "conductivity solid k_xx / k_s");
     for (const auto& s : sides)
-      line += fmt::format("{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_solid"][0][0].get<double>()));
+      line += fmt::format(
+          "{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_solid"][0][0].get<double>()));
     std::cerr << line << "\n";
     line = fmt::format("{:<34}", "conductivity pore k_xx / k_f");
     for (const auto& s : sides)
-      line += fmt::format("{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_pore"][0][0].get<double>()));
+      line += fmt::format(
+          "{:>14}", fmt::format("{:.4g}", (*s.second)["conductivity_pore"][0][0].get<double>()));
     std::cerr << line << "\n";
     row("pore tortuosity (x)", "tortuosity_pore", 0);
     row("k solid / HS upper bound", "conductivity_solid", -1, "fraction_of_bound");

@@ -188,8 +188,9 @@ int run(RunCommand& cmd, const CLI::App& app) {
   const bool resuming = !cmd.checkpoints.resume.empty();
   if (resuming) {
     if (app.count("--out") && std::filesystem::path(cmd.out) != cmd.checkpoints.resume)
-      throw UsageError(fmt::format("--out {}: a resumed run writes into its own folder, --resume {}",
-                                   cmd.out, cmd.checkpoints.resume));
+      throw UsageError(
+          fmt::format("--out {}: a resumed run writes into its own folder, --resume {}", cmd.out,
+                      cmd.checkpoints.resume));
     cmd.out = cmd.checkpoints.resume;
   }
   validate(cmd);
@@ -339,11 +340,14 @@ CommandFn add_run_command(CLI::App& root) {
       "run", "Compute one triply periodic CMC surface at a prescribed volume fraction");
   add_run_options(*app, cmd->params, cmd->strings, true);
   add_threads_option(*app, cmd->threads);
-  app->add_option("--out", cmd->out, "Output directory (report.json, history.csv, field.vti; field.pvti with one piece per "
-                  "process under mpirun)")
+  app->add_option(
+         "--out", cmd->out,
+         "Output directory (report.json, history.csv, field.vti; field.pvti with one piece per "
+         "process under mpirun)")
       ->capture_default_str()
       ->check(non_empty_text(), "DIR");
-  app->add_flag("--float32", cmd->float32, "Write the field (field.vti or field.pvti) in single precision");
+  app->add_flag("--float32", cmd->float32,
+                "Write the field (field.vti or field.pvti) in single precision");
   app->add_option("--mesh", cmd->mesh_format,
                   "Also write the phi = 1/2 surface mesh as surface.FORMAT (stl|ply|obj|3mf), in "
                   "unit-cell coordinates, with surface.FORMAT.json")

@@ -242,7 +242,8 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError("--porosity A:B: a graded part is a network solid; --solid sheet takes one "
                      "porosity");
   if (cmd.graded_members != 0 && (cmd.graded_members < 2 || cmd.graded_members > 11))
-    throw UsageError(fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
+    throw UsageError(
+        fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
   if (cmd.compare_nodal && ramp)
     throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
   // The unit cell's properties (docs/properties.md): the request checked before any work.
@@ -292,8 +293,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
           "edges); accepted: one closed, manifold triangle mesh in --units", cmd.shape,
           s.boundary_edges, s.nonmanifold_edges));
     for (int c = 0; c < 3; ++c) d.size[c] = s.max[c] - s.min[c];
-    if (!(cmd.skin >= 0) || !std::isfinite(cmd.skin) || cmd.skin > 0.5 * *std::min_element(d.size.begin(), d.size.end()))
-      throw UsageError(fmt::format("--skin: got {}; accepted: 0 .. half the shape's smallest extent, in --units", cmd.skin));
+    if (!(cmd.skin >= 0) || !std::isfinite(cmd.skin) ||
+        cmd.skin > 0.5 * *std::min_element(d.size.begin(), d.size.end()))
+      throw UsageError(fmt::format(
+          "--skin: got {}; accepted: 0 .. half the shape's smallest extent, in --units", cmd.skin));
     shape->skin = cmd.skin;
   } else if (cmd.skin != 0.0) {
     throw UsageError("--skin: only with --shape");
@@ -339,7 +342,8 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(e.what());
   }
   plan.params.units = d.units;
-  const std::filesystem::path cache = cmd.cache.empty() ? default_cache() : std::filesystem::path(cmd.cache);
+  const std::filesystem::path cache =
+      cmd.cache.empty() ? default_cache() : std::filesystem::path(cmd.cache);
   if (std::filesystem::exists(cache) && !std::filesystem::is_directory(cache))
     throw UsageError(fmt::format("--cache: '{}' exists and is not a directory", cache.string()));
   const int threads = apply_threads(cmd.threads);
@@ -350,9 +354,11 @@ int run_scaffold(ScaffoldCommand& cmd) {
   std::vector<GradedMember> members;
   if (ramp) {
     // Members at evenly spaced solid fractions from one end of the ramp to the other.
-    const double a0 = 1.0 - std::max(ramp->from, ramp->to), a1 = 1.0 - std::min(ramp->from, ramp->to);
-    const int count = cmd.graded_members > 0 ? cmd.graded_members
-                                             : std::max(2, int(std::ceil((a1 - a0) / 0.1 - 1e-9)) + 1);
+    const double a0 = 1.0 - std::max(ramp->from, ramp->to),
+                 a1 = 1.0 - std::min(ramp->from, ramp->to);
+    const int count = cmd.graded_members > 0
+                          ? cmd.graded_members
+                          : std::max(2, int(std::ceil((a1 - a0) / 0.1 - 1e-9)) + 1);
     member = nlohmann::json::array();
     for (int m = 0; m < count; ++m) {
       RunParams p = cmd.params;
@@ -432,12 +438,13 @@ int run_scaffold(ScaffoldCommand& cmd) {
         "{} triangles, {}, {}; {} fragments removed ({:.3g} {}^3); pores percolate x y z\n",
         cmd.surface, cmd.solid, d.size[0], d.size[1], d.size[2], d.units,
         r["porosity"].get<double>(),
-        ramp ? fmt::format("{} along {}, mean {}", cmd.porosity, cmd.axis, 0.5 * (ramp->from + ramp->to))
+        ramp ? fmt::format("{} along {}, mean {}", cmd.porosity, cmd.axis,
+                           0.5 * (ramp->from + ramp->to))
              : fmt::format("{}", d.porosity),
         r["porosity_error"].get<double>(),
-        d.solid == SolidKind::kSheet
-            ? fmt::format(", wall thickness {:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
-            : "",
+        d.solid == SolidKind::kSheet ? fmt::format(", wall thickness {:.4g} {}",
+                                                   r["sheet"]["thickness"].get<double>(), d.units)
+                                     : "",
         r["triangles"].get<long>(), r["checks"]["closed"].get<bool>() ? "closed" : "OPEN",
         r["checks"]["manifold"].get<bool>() ? "manifold" : "NOT manifold",
         t["fragments_removed"].get<bool>() ? t["fragments"].get<long>() : 0,
@@ -477,15 +484,21 @@ int run_scaffold(ScaffoldCommand& cmd) {
       const auto& c = r["compare_nodal"];
       std::cerr << fmt::format("{:<28} {:>12} {:>12}\n", "--compare-nodal", "CMC", "nodal");
       auto row = [&](const std::string& name, const nlohmann::json& a, const nlohmann::json& b) {
-        std::cerr << fmt::format("{:<28} {:>12.5g} {:>12.5g}\n", name, a.get<double>(), b.get<double>());
+        std::cerr << fmt::format("{:<28} {:>12.5g} {:>12.5g}\n", name, a.get<double>(),
+                                 b.get<double>());
       };
       row("porosity", c["cmc"]["porosity"], c["nodal"]["porosity"]);
-      row("mean curvature std (1/" + d.units + ")", c["cmc"]["mean_curvature_std"], c["nodal"]["mean_curvature_std"]);
-      row("specific surface (1/" + d.units + ")", c["cmc"]["specific_surface"], c["nodal"]["specific_surface"]);
+      row("mean curvature std (1/" + d.units + ")", c["cmc"]["mean_curvature_std"],
+          c["nodal"]["mean_curvature_std"]);
+      row("specific surface (1/" + d.units + ")", c["cmc"]["specific_surface"],
+          c["nodal"]["specific_surface"]);
       if (c["cmc"].contains("wall_thickness")) {
-        row("wall thickness mean (" + d.units + ")", c["cmc"]["wall_thickness"]["mean"], c["nodal"]["wall_thickness"]["mean"]);
-        row("wall thickness std (" + d.units + ")", c["cmc"]["wall_thickness"]["std"], c["nodal"]["wall_thickness"]["std"]);
-        row("pore size std (" + d.units + ")", c["cmc"]["pore_size"]["std"], c["nodal"]["pore_size"]["std"]);
+        row("wall thickness mean (" + d.units + ")", c["cmc"]["wall_thickness"]["mean"],
+            c["nodal"]["wall_thickness"]["mean"]);
+        row("wall thickness std (" + d.units + ")", c["cmc"]["wall_thickness"]["std"],
+            c["nodal"]["wall_thickness"]["std"]);
+        row("pore size std (" + d.units + ")", c["cmc"]["pore_size"]["std"],
+            c["nodal"]["pore_size"]["std"]);
       }
       if (c["cmc"].contains("thickness"))
         row("sheet thickness (" + d.units + ")", c["cmc"]["thickness"], c["nodal"]["thickness"]);
@@ -559,13 +572,15 @@ CommandFn add_scaffold_command(CLI::App& root) {
       "removes fragments, checks that the pores percolate, measures wall and pore sizes, and "
       "writes FILE with FILE.json\nExample: cmcsurf scaffold --surface G --porosity 0.7 --solid "
       "sheet --cell-size 2 --size 10x10x20 --units mm --grid 32 --fast --out part.3mf");
-  app->add_option("--surface", cmd->surface, "Surface family: P, D, G, ... (see `cmcsurf surfaces`)")
+  app->add_option("--surface", cmd->surface,
+                  "Surface family: P, D, G, ... (see `cmcsurf surfaces`)")
       ->capture_default_str();
   app->add_option("--porosity", cmd->porosity,
                   "Target porosity of the part: 1 - solid / box volume, in (0, 1); A:B ramps it "
                   "linearly from A to B along --axis (network only)")
       ->required();
-  app->add_option("--axis", cmd->axis, "Axis of a --porosity A:B ramp: x, y or z")->capture_default_str();
+  app->add_option("--axis", cmd->axis, "Axis of a --porosity A:B ramp: x, y or z")
+      ->capture_default_str();
   app->add_option("--graded-members", cmd->graded_members,
                   "Members a ramp blends (default: one per 0.1 of porosity, at least 2)");
   app->add_option("--solid", cmd->solid,
@@ -573,25 +588,36 @@ CommandFn add_scaffold_command(CLI::App& root) {
                   "porosity) or sheet (a wall around the alpha = 1/2 surface, its thickness "
                   "solved for the porosity)")
       ->capture_default_str();
-  app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")->capture_default_str();
+  app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")
+      ->capture_default_str();
   cmd->size_option =
-      app->add_option("--size", cmd->size, "The part's box AxBxC (or A) in --units; any size, the lattice is trimmed and capped")
+      app->add_option(
+             "--size", cmd->size,
+             "The part's box AxBxC (or A) in --units; any size, the lattice is trimmed and capped")
           ->capture_default_str();
   app->add_option("--shape", cmd->shape,
                   "Fill this closed STL mesh (in --units) instead of a box: the lattice is cut to "
                   "it and capped on its surface, the porosity holds over its volume");
-  app->add_option("--skin", cmd->skin, "With --shape: a dense skin of this thickness inside its surface, in --units");
-  app->add_option("--units", cmd->units, std::string("Length unit: ") + mesh_units_list())->capture_default_str();
-  app->add_option("--format", cmd->format, std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");
+  app->add_option("--skin", cmd->skin,
+                  "With --shape: a dense skin of this thickness inside its surface, in --units");
+  app->add_option("--units", cmd->units, std::string("Length unit: ") + mesh_units_list())
+      ->capture_default_str();
+  app->add_option("--format", cmd->format,
+                  std::string("Mesh format: ") + mesh_format_list() + " (default: from --out)");
   app->add_option("--out", cmd->out, "Output mesh file (a report goes to FILE.json)")->required();
   app->add_option("--cache", cmd->cache,
                   "Folder of computed members, keyed by their run parameters (default: "
                   "$XDG_CACHE_HOME/cmcsurf or ~/.cache/cmcsurf)");
-  app->add_flag("--keep-fragments", cmd->keep_fragments, "Keep the pieces the box cuts off the solid");
-  app->add_option("--max-triangles", cmd->max_triangles, "Decimate to at most this many triangles (OpenMesh, keeping the solid closed, manifold, one piece)");
-  app->add_option("--tolerance", cmd->tolerance, "Decimate as far as the surface moves at most this, in --units");
+  app->add_flag("--keep-fragments", cmd->keep_fragments,
+                "Keep the pieces the box cuts off the solid");
+  app->add_option("--max-triangles", cmd->max_triangles,
+                  "Decimate to at most this many triangles (OpenMesh, keeping the solid closed, "
+                  "manifold, one piece)");
+  app->add_option("--tolerance", cmd->tolerance,
+                  "Decimate as far as the surface moves at most this, in --units");
   app->add_option("--min-feature", cmd->min_feature,
-                  "Warn when the thinnest wall or narrowest pore is below this (the printer's resolution), in --units");
+                  "Warn when the thinnest wall or narrowest pore is below this (the printer's "
+                  "resolution), in --units");
   app->add_flag("--compare-nodal", cmd->compare_nodal,
                 "Also build the same design from the nodal approximation at the member's volume "
                 "fraction and report both side by side (curvature, wall and pore spread, "

@@ -71,7 +71,8 @@ fs::path find_plot_script(const std::string& given) {
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) {
     candidates.push_back(exe.parent_path().parent_path() / "scripts" / "plot_families.py");
-    candidates.push_back(exe.parent_path().parent_path() / "share" / "cmcsurf" / "plot_families.py");
+    candidates.push_back(exe.parent_path().parent_path() / "share" / "cmcsurf" /
+                         "plot_families.py");
   }
   candidates.push_back(fs::path(__FILE__).parent_path().parent_path() / "scripts" /
                        "plot_families.py");
@@ -87,9 +88,9 @@ void plot(const SweepCommand& cmd, const fs::path& dir) {
     std::cerr << "warning: scripts/plot_families.py not found (pass --plot-script); no figures\n";
     return;
   }
-  const std::string command =
-      fmt::format("{} {} {} {}", shell_quote(cmd.python), shell_quote(script.string()),
-                  shell_quote((dir / "sweep.csv").string()), shell_quote((dir / "families").string()));
+  const std::string command = fmt::format(
+      "{} {} {} {}", shell_quote(cmd.python), shell_quote(script.string()),
+      shell_quote((dir / "sweep.csv").string()), shell_quote((dir / "families").string()));
   const int status = std::system(command.c_str());
   const int rc = status == -1 ? -1 : (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
   if (rc == 3)
@@ -261,8 +262,9 @@ GroupPlan plan_groups(const SweepCommand& cmd, const SweepParams& sp, const Deco
     throw UsageError(fmt::format("--groups {}: not a divisor of the {} process{}; {}", cmd.groups,
                                  ranks, ranks == 1 ? "" : "es", accepted_text));
   } else if (const std::string why = problem(ranks / cmd.groups); !why.empty()) {
-    throw UsageError(fmt::format("--groups {}: a group of {} processes cannot run a member ({}); {}",
-                                 cmd.groups, ranks / cmd.groups, why, accepted_text));
+    throw UsageError(
+        fmt::format("--groups {}: a group of {} processes cannot run a member ({}); {}", cmd.groups,
+                    ranks / cmd.groups, why, accepted_text));
   } else {
     plan.groups = cmd.groups;
   }
@@ -421,7 +423,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   if (world->distributed() && world_root && !cmd.quiet) print_plan(sp, gplan, *gd);
   std::string resume_cmd = fmt::format("{} sweep --resume {}", shell_quote(self_executable()),
                                        shell_quote(dir.string()));
-  if (world->distributed()) resume_cmd = fmt::format("mpirun -np {} {}", world->ranks(), resume_cmd);
+  if (world->distributed())
+    resume_cmd = fmt::format("mpirun -np {} {}", world->ranks(), resume_cmd);
   SignalGuard signals;
   CheckpointSink sink(dir, sp.run, output_options(cmd), cmd.checkpoints.every,
                       gd->distributed() ? gd : nullptr);
@@ -739,7 +742,8 @@ CommandFn add_sweep_command(CLI::App& root) {
   app->add_option("--out", cmd->out, "Output directory")
       ->capture_default_str()
       ->check(non_empty_text(), "DIR");
-  app->add_flag("--float32", cmd->float32, "Write each member's field (field.vti, or field.pvti under a group of several "
+  app->add_flag("--float32", cmd->float32,
+                "Write each member's field (field.vti, or field.pvti under a group of several "
                 "processes) in single precision");
   app->add_flag("--no-plot", cmd->no_plot, "Skip the figures");
   app->add_option("--python", cmd->python, "Python with matplotlib for the figures")

@@ -341,8 +341,9 @@ def mesh(
         tile_spec = str(int(tile))
     else:
         try:
-            parts = [int(t) for t in tile] if all(
-                isinstance(t, (int, np.integer)) and not isinstance(t, bool) for t in tile) else None
+            whole = all(isinstance(t, (int, np.integer)) and not isinstance(t, bool)
+                        for t in tile)
+            parts = [int(t) for t in tile] if whole else None
         except TypeError:
             parts = None
         if parts is None or len(parts) != 3:

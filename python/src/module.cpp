@@ -918,9 +918,10 @@ py::object properties(py::handle source, const py::dict& o, py::handle threads) 
                          given("porosity") ? real_option(o["porosity"], "porosity") : NAN,
                          given("thickness") ? real_option(o["thickness"], "thickness") : NAN);
     if (given("only"))
-      set_properties_only(
-          r, list_option(o["only"], "only", "a str or a sequence of str",
-                         [](py::handle e, const std::string& key) { return string_option(e, key); }));
+      set_properties_only(r, list_option(o["only"], "only", "a str or a sequence of str",
+                                         [](py::handle e, const std::string& key) {
+                                           return string_option(e, key);
+                                         }));
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());
   }
@@ -1022,11 +1023,12 @@ py::object scattering(py::handle source, const py::dict& o, py::handle threads) 
   std::string shown;
   try {
     if (given("density")) sp.density = parse_density_model(string_option(o["density"], "density"));
-    if (given("smax")) sp.smax = int(std::clamp<long long>(integer_option(o["smax"], "smax", &shown),
-                                                          -1, 1 << 30));
+    if (given("smax"))
+      sp.smax = int(std::clamp<long long>(integer_option(o["smax"], "smax", &shown), -1, 1 << 30));
     if (sp.smax < 0) throw std::invalid_argument("--smax: accepted: S >= 0 (0: automatic)");
     if (given("lattice")) sp.powder.lattice = real_option(o["lattice"], "lattice");
-    if (given("debye_waller")) sp.powder.debye_waller = real_option(o["debye_waller"], "debye_waller");
+    if (given("debye_waller"))
+      sp.powder.debye_waller = real_option(o["debye_waller"], "debye_waller");
     if (given("peak_width")) sp.powder.peak_width = real_option(o["peak_width"], "peak_width");
     if (given("peak_shape")) {
       const std::string shape = string_option(o["peak_shape"], "peak_shape");
@@ -1038,7 +1040,8 @@ py::object scattering(py::handle source, const py::dict& o, py::handle threads) 
     if (given("absent_tol")) sp.absent_tol = real_option(o["absent_tol"], "absent_tol");
     if (given("index_tol")) sp.index_tol = real_option(o["index_tol"], "index_tol");
     if (!(sp.powder.lattice > 0.0 && std::isfinite(sp.powder.lattice)))
-      throw std::invalid_argument(fmt::format("--lattice: got {}; accepted: > 0", sp.powder.lattice));
+      throw std::invalid_argument(
+          fmt::format("--lattice: got {}; accepted: > 0", sp.powder.lattice));
     if (!(sp.powder.debye_waller >= 0.0 && std::isfinite(sp.powder.debye_waller)))
       throw std::invalid_argument("--debye-waller: accepted: >= 0");
     if (!(sp.powder.peak_width >= 0.0 && std::isfinite(sp.powder.peak_width)))

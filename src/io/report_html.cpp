@@ -54,7 +54,8 @@ nlohmann::json mesh_json(const DrawSurface& s) {
           std::lround(std::clamp((s.positions[i][a] - s.origin) * 65535.0f, 0.0f, 65535.0f)));
   std::vector<std::int8_t> normals(s.normals.size() * 3);
   for (std::size_t i = 0; i < s.normals.size(); ++i)
-    for (int a = 0; a < 3; ++a) normals[3 * i + a] = std::int8_t(std::lround(127.0f * s.normals[i][a]));
+    for (int a = 0; a < 3; ++a)
+      normals[3 * i + a] = std::int8_t(std::lround(127.0f * s.normals[i][a]));
   nlohmann::json out = {{"vertices", s.positions.size()},
                         {"triangles", s.triangles.size()},
                         {"origin", s.origin},
@@ -303,13 +304,15 @@ h1 { font-size: 24px; margin: 10px 0 2px; } h2 { font-size: 18px; margin: 26px 0
 .controls { min-width: 220px; }
 .controls label { display: block; margin: 4px 0; }
 .controls .bar { width: 28px; height: 260px; border: 1px solid #888; display: inline-block; }
-.ticks { display: inline-block; vertical-align: top; height: 262px; position: relative; margin-left: 6px; width: 90px; }
+.ticks { display: inline-block; vertical-align: top; height: 262px; position: relative;
+         margin-left: 6px; width: 90px; }
 .ticks span { position: absolute; font-size: 12px; transform: translateY(-50%); }
 table.numbers { border-collapse: collapse; }
 table.numbers th { text-align: left; font-weight: normal; color: #444; padding: 2px 16px 2px 0; }
 table.numbers td { font-family: "DejaVu Sans Mono", monospace; padding: 2px 0; }
 table.members { border-collapse: collapse; font-size: 13px; }
-table.members td, table.members th { padding: 2px 8px; border-bottom: 1px solid #eee; text-align: right; }
+table.members td, table.members th { padding: 2px 8px; border-bottom: 1px solid #eee;
+                                     text-align: right; }
 table.members tr.member { cursor: pointer; } table.members tr.selected { background: #eef3ff; }
 .charts { display: flex; flex-wrap: wrap; gap: 18px; }
 svg text { font-size: 11px; fill: #333; }

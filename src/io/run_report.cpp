@@ -164,8 +164,9 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   j["parameters"] = params_json(p);
   j["conventions"] = {
       {"phase_1", "phi > 1/2"},
-      {"area", "area of the phi = 1/2 surface: the zero set of the piecewise-linear interpolant "
-               "of psi = atanh(2 phi - 1), second order in h (docs/method.md, sharp measures)"},
+      {"area",
+       "area of the phi = 1/2 surface: the zero set of the piecewise-linear interpolant "
+       "of psi = atanh(2 phi - 1), second order in h (docs/method.md, sharp measures)"},
       {"mean_curvature",
        "mean curvature of the phi = 1/2 surface, area-weighted average of the local "
        "H = -div(grad psi/|grad psi|)/2 on it; positive when phase 1 is convex (1/r for a ball)"},
@@ -176,20 +177,23 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
       {"euler_characteristic_start",
        "the same of the nodal start phi^0 (step 1's field): the family's topology; "
        "topology_changed: the run ended on a member of another one"},
-      {"genus", "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
-                "connected (P 3, G 5, D 9; a ball 0)"},
+      {"genus",
+       "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
+       "connected (P 3, G 5, D 9; a ball 0)"},
       {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
       {"mean_curvature_diffuse",
        "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},
-      {"mean_curvature_mu", "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
-                            "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
+      {"mean_curvature_mu",
+       "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
+       "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
       {"mean_curvature_mu_gap", "mean_curvature_mu - mean_curvature"},
       {"volume_fraction",
        "volume fraction of phi > 1/2: the 1/2 iso-surface of the piecewise-linear interpolant of "
        "the cell-centre values with its O(h^2) curvature bias removed (docs/volume.md)"},
       {"volume_fraction_cells", "fraction of cells with phi > 1/2"},
-      {"volume_iterates", "--constrain volume: (mass, volume_fraction) after step 6 and after "
-                          "each mass correction and relaxation"},
+      {"volume_iterates",
+       "--constrain volume: (mass, volume_fraction) after step 6 and after "
+       "each mass correction and relaxation"},
       {"mass", "mean of phi"}};
   return j;
 }

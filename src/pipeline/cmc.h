@@ -184,8 +184,8 @@ struct RunCursor {
 };
 
 // A run's whole state between two time steps (docs/reliability.md), apart from its
-// parameters (RunParams, which the caller keeps): the position, the result so far (its phi on cursor.grid; this process's block under a
-// decomposition) and the stepper's carried fields.
+// parameters (RunParams, which the caller keeps): the position, the result so far (its phi on
+// cursor.grid; this process's block under a decomposition) and the stepper's carried fields.
 struct Checkpoint {
   RunCursor cursor;
   RunResult result;

@@ -25,7 +25,8 @@ nlohmann::json to_json(const Vector3& v) { return {v[0], v[1], v[2]}; }
 nlohmann::json to_json(const Matrix3& m) { return {to_json(m[0]), to_json(m[1]), to_json(m[2])}; }
 nlohmann::json to_json(const Matrix6& m) {
   nlohmann::json rows = nlohmann::json::array();
-  for (const auto& row : m) rows.push_back(nlohmann::json(std::vector<double>(row.begin(), row.end())));
+  for (const auto& row : m)
+    rows.push_back(nlohmann::json(std::vector<double>(row.begin(), row.end())));
   return rows;
 }
 
@@ -373,7 +374,8 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
                     cmc.solid_fraction));
   nlohmann::json j = solid_properties(cmc, r, progress, "CMC solid");
   describe_solid(j, spec, cmc, r);
-  if (std::isfinite(r.youngs_modulus_gpa)) j["material"] = {{"youngs_modulus_gpa", r.youngs_modulus_gpa}};
+  if (std::isfinite(r.youngs_modulus_gpa))
+    j["material"] = {{"youngs_modulus_gpa", r.youngs_modulus_gpa}};
   j["material"]["poisson_ratio"] = r.poisson_ratio;
   j["notation"] =
       "Voigt order 11 22 33 23 13 12 with engineering shear strains; stiffnesses normalised by "

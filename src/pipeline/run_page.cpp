@@ -173,8 +173,8 @@ double write_sweep_page(const fs::path& dir) {
     surfaces = summary.at("surfaces").get<std::vector<std::string>>();
     fractions = summary.at("volume_fractions").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(
-        fmt::format("'{}' lacks surfaces or volume_fractions: {}", summary_path.string(), e.what()));
+    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
+                                         summary_path.string(), e.what()));
   }
   nlohmann::json members = nlohmann::json::array();
   std::vector<nlohmann::json> reports;
@@ -205,14 +205,13 @@ double write_sweep_page(const fs::path& dir) {
         return fmt::format("<td data-key=\"{}\" data-value=\"{:.17g}\">{}</td>", key, v,
                            format_number(format, v));
       };
-      table += fmt::format("<tr class=\"member\" data-member=\"{}\"><td>{}</td>{}{}{}{}{}{}{}{}{}</tr>\n",
-                           html_escape(name), html_escape(name),
-                           cell("volume_fraction_target", "{:.4g}"),
-                           cell("volume_fraction", "{:.4f}"), cell("area", "{:.5f}"),
-                           cell("mean_curvature", "{:+.5f}"), cell("mean_curvature_std", "{:.3g}"),
-                           cell("nodal_mean_curvature_std", "{:.3g}"),
-                           cell("nodal_std_ratio", "{:.3g}"), cell("nodal_area_excess", "{:+.3%}"),
-                           cell("steps", "{:.0f}"));
+      table += fmt::format(
+          "<tr class=\"member\" data-member=\"{}\"><td>{}</td>{}{}{}{}{}{}{}{}{}</tr>\n",
+          html_escape(name), html_escape(name), cell("volume_fraction_target", "{:.4g}"),
+          cell("volume_fraction", "{:.4f}"), cell("area", "{:.5f}"),
+          cell("mean_curvature", "{:+.5f}"), cell("mean_curvature_std", "{:.3g}"),
+          cell("nodal_mean_curvature_std", "{:.3g}"), cell("nodal_std_ratio", "{:.3g}"),
+          cell("nodal_area_excess", "{:+.3%}"), cell("steps", "{:.0f}"));
       reports.push_back(report);
     }
   table += "</table>\n";
@@ -291,8 +290,8 @@ double write_gallery_from_folder(const fs::path& dir) {
     surfaces = summary.at("surfaces").get<std::vector<std::string>>();
     fractions = summary.at("volume_fractions").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(
-        fmt::format("'{}' lacks surfaces or volume_fractions: {}", summary_path.string(), e.what()));
+    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
+                                         summary_path.string(), e.what()));
   }
   std::vector<GalleryMember> members;
   for (std::size_t si = 0; si < surfaces.size(); ++si)
