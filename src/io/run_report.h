@@ -61,7 +61,11 @@ nlohmann::json params_json(const RunParams& p);
 // volume_fraction) keep `base`'s values, and every value must pass the command line's range
 // checks (check_run_params). Throws std::runtime_error naming the bad key or range.
 RunParams params_from_json(const nlohmann::json& j, const RunParams& base = {});
-nlohmann::json measures_json(const Measures& m);
+// The measures' keys (NaN as null). curvature_integrals: the keys from the surface's Gaussian
+// curvature and H^2 (homogeneity_index, gaussian_curvature_integral, gauss_bonnet_error,
+// mean_gaussian_curvature, willmore_energy); off for the truncated nodal start, whose psi jumps
+// where the truncation cut phi and whose K is then no estimate of anything.
+nlohmann::json measures_json(const Measures& m, bool curvature_integrals = true);
 
 // The report: the required keys at top level (surface, grid, epsilon, dt,
 // volume_fraction_target, steps, vcycles, converged, area, mean_curvature, mean_curvature_mu,
