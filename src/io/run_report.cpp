@@ -306,6 +306,16 @@ void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQ
   write_file_atomic(path, out);
 }
 
+void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q) {
+  const OwnRangeHistogram& h = q.relaxed_h_own;
+  const OwnRangeHistogram& k = q.relaxed_k_own;
+  std::string out = "bin,H_lo,H_hi,H_fraction,K_lo,K_hi,K_fraction\n";
+  for (std::size_t b = 0; b < h.fraction.size() && b < k.fraction.size(); ++b)
+    out += fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", b, h.edges[b],
+                       h.edges[b + 1], h.fraction[b], k.edges[b], k.edges[b + 1], k.fraction[b]);
+  write_file_atomic(path, out);
+}
+
 namespace {
 
 CsvCell json_cell(const nlohmann::json& v) {

@@ -85,6 +85,9 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
 nlohmann::json quality_json(const CmcQuality& q, double relaxed_area);
 // curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H).
 void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q);
+// The relaxed surface's H and K distributions, each on its own range: bin, H_lo, H_hi,
+// H_fraction, K_lo, K_hi, K_fraction (area fractions).
+void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q);
 
 // sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
 // booleans; null is an empty cell), the main quantities first.
