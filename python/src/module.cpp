@@ -1136,10 +1136,11 @@ constexpr const char* kResultSaveDoc =
     R"(save(dir, float32=False, preview=True, report=True, force=False) -> pathlib.Path
 
 Writes the run folder exactly as `cmcsurf run --out dir` does: history.csv,
-curvature_histogram.csv, field.vti (float32=True: single precision, as --float32),
-preview.png, report.json (last; with preview_seconds) and report.html. preview=False is
---no-preview (no preview.png), report=False is --no-report (no report.html; `cmcsurf report
-dir` writes it later). An earlier run's outputs in dir are removed first. dir must be new,
+curvature_histogram.csv, curvature_distribution.csv, field.vti (float32=True: single
+precision, as --float32), preview.png, report.json (last; with preview_seconds) and
+report.html. preview=False is --no-preview (no preview.png), report=False is --no-report
+(no report.html; `cmcsurf report dir` writes it later). An earlier run's outputs in dir are
+removed first. dir must be new,
 empty or a cmcsurf folder (force=True writes into another non-empty folder, as --force), and
 no other process may be writing it (ValueError / RuntimeError otherwise, before anything is
 written). Returns dir as a pathlib.Path.)";

@@ -53,6 +53,27 @@ std::uint32_t crc32_of(std::uint32_t crc, const void* data, std::size_t bytes) {
   return std::uint32_t(::crc32_z(crc, static_cast<const Bytef*>(data), bytes));
 }
 
+// Measures' surface topology and curvature integrals, kept apart from the macro above so that
+// a checkpoint written before them still reads (a run resumes only with the build that wrote
+// it, so such a file is one of the fuzz corpus's seeds, not a run to finish).
+nlohmann::json surface_measures_json(const Measures& m) {
+  return {{"euler_characteristic_phase2", m.euler_characteristic_phase2},
+          {"components_phase1", m.components_phase1},
+          {"components_phase2", m.components_phase2},
+          {"surface_components", m.surface_components},
+          {"gaussian_curvature_integral", m.gaussian_curvature_integral},
+          {"willmore_energy", m.willmore_energy}};
+}
+
+void surface_measures_from_json(const nlohmann::json& j, Measures& m) {
+  j.at("euler_characteristic_phase2").get_to(m.euler_characteristic_phase2);
+  j.at("components_phase1").get_to(m.components_phase1);
+  j.at("components_phase2").get_to(m.components_phase2);
+  j.at("surface_components").get_to(m.surface_components);
+  j.at("gaussian_curvature_integral").get_to(m.gaussian_curvature_integral);
+  j.at("willmore_energy").get_to(m.willmore_energy);
+}
+
 nlohmann::json result_json(const RunResult& r) {
   nlohmann::json j;
   j["history"] = r.history;
@@ -72,6 +93,8 @@ nlohmann::json result_json(const RunResult& r) {
   j["volume_seconds"] = r.volume_seconds;
   j["initial"] = r.initial;
   j["final"] = r.final;
+  j["initial_surface"] = surface_measures_json(r.initial);
+  j["final_surface"] = surface_measures_json(r.final);
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;
   j["measure_seconds"] = r.measure_seconds;
@@ -96,6 +119,8 @@ void result_from_json(const nlohmann::json& j, RunResult& r) {
   j.at("volume_seconds").get_to(r.volume_seconds);
   j.at("initial").get_to(r.initial);
   j.at("final").get_to(r.final);
+  if (j.contains("initial_surface")) surface_measures_from_json(j["initial_surface"], r.initial);
+  if (j.contains("final_surface")) surface_measures_from_json(j["final_surface"], r.final);
   j.at("wall_seconds").get_to(r.wall_seconds);
   j.at("solver_seconds").get_to(r.solver_seconds);
   j.at("measure_seconds").get_to(r.measure_seconds);

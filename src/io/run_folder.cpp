@@ -20,8 +20,8 @@ void clear_run_outputs(const std::filesystem::path& dir, bool keep_field) {
   namespace fs = std::filesystem;
   // report.json first: from here until it is written again the folder reads as incomplete.
   std::vector<fs::path> stale = {dir / "report.json"};
-  for (const char* name : {"history.csv", "curvature_histogram.csv", "preview.png",
-                           "youngs_modulus.png", "report.html"})
+  for (const char* name : {"history.csv", "curvature_histogram.csv", "curvature_distribution.csv",
+                           "preview.png", "youngs_modulus.png", "report.html"})
     stale.push_back(dir / name);
   for (const char* ext : {"stl", "ply", "obj", "3mf"}) {
     stale.push_back(dir / (std::string("surface.") + ext));
@@ -94,6 +94,7 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
   ensure_directory(dir);
   clear_run_outputs(dir, field_written);
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
+  write_curvature_distribution_csv(dir / "curvature_distribution.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
   if (!field_written)
     write_run_field(dir, {{"phi", &phi}}, float32, run_field_metadata(p, r, report));

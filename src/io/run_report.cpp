@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -18,6 +19,7 @@
 #include "parallel/threads.h"
 #include "pipeline/run_options.h"
 #include "pipeline/run_schema.h"
+#include "science/crystallographic_cell.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -59,7 +61,7 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
   return p;
 }
 
-nlohmann::json measures_json(const Measures& m) {
+nlohmann::json measures_json(const Measures& m, bool curvature_integrals) {
   // NaN (an error estimate not computed) is written as null.
   auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   nlohmann::json j;
@@ -71,6 +73,26 @@ nlohmann::json measures_json(const Measures& m) {
     j["total_mean_curvature"] = m.total_mean_curvature;
     j["euler_characteristic"] = m.euler_characteristic;
     j["genus"] = 1 - m.euler_characteristic;
+    const std::int64_t chi = m.euler_characteristic_surface();
+    auto count = [](std::int64_t c) { return c >= 0 ? nlohmann::json(c) : nlohmann::json(); };
+    j["euler_characteristic_phase1"] = m.euler_characteristic;
+    j["euler_characteristic_phase2"] = m.euler_characteristic_phase2;
+    j["euler_characteristic_surface"] = chi;
+    j["components_phase1"] = count(m.components_phase1);
+    j["components_phase2"] = count(m.components_phase2);
+    j["surface_components"] = count(m.surface_components);
+    const double pieces = double(m.surface_components);
+    j["genus_surface"] = m.surface_components > 0 ? nlohmann::json(1.0 - 0.5 * double(chi) / pieces)
+                                                  : nlohmann::json();
+    if (curvature_integrals) {
+      j["homogeneity_index"] = number(homogeneity_index(m.area, chi));
+      j["gaussian_curvature_integral"] = m.gaussian_curvature_integral;
+      const double gauss_bonnet = 2.0 * std::numbers::pi * double(chi);
+      const double gb_error = m.gaussian_curvature_integral / gauss_bonnet - 1.0;
+      j["gauss_bonnet_error"] = chi != 0 ? nlohmann::json(gb_error) : nlohmann::json();
+      j["mean_gaussian_curvature"] = m.area > 0 ? m.gaussian_curvature_integral / m.area : 0.0;
+      j["willmore_energy"] = m.willmore_energy;
+    }
   }
   j["area_diffuse"] = m.area_diffuse;
   j["mean_curvature_diffuse"] = m.mean_curvature_diffuse;
@@ -128,7 +150,28 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
     j["euler_characteristic_start"] = *r.euler_characteristic_start;
     j["topology_changed"] = *r.euler_characteristic_start != r.final.euler_characteristic;
   }
-  j["initial"] = measures_json(r.initial);
+  j["initial"] = measures_json(r.initial, false);
+  if (const auto cell = crystallographic_cell(p.surface); cell && r.final.sharp) {
+    const std::int64_t chi = r.final.euler_characteristic_surface();
+    const double mean_k = r.final.gaussian_curvature_integral / r.final.area;
+    const CellNumbers c =
+        per_crystallographic_cell(*cell, r.final.area, chi, r.final.mean_curvature, mean_k);
+    j["crystallographic_cell"] = {
+        {"space_group", cell->space_group},
+        {"space_group_phase1", cell->space_group_phase1},
+        {"cells_per_computed_cell", cell->cells_per_computed_cell},
+        {"lattice_parameter", cell->lattice_ratio},
+        {"area", c.area},
+        {"euler_characteristic_surface", c.euler_characteristic},
+        {"mean_curvature", c.mean_curvature},
+        {"mean_gaussian_curvature", c.mean_gaussian_curvature},
+        {"computed_cell",
+         {{"lattice_parameter", 1.0},
+          {"area", r.final.area},
+          {"euler_characteristic_surface", chi},
+          {"mean_curvature", r.final.mean_curvature},
+          {"mean_gaussian_curvature", mean_k}}}};
+  }
   if (r.bisection) {
     j["bisection"] = {{"beta", r.bisection->beta},
                       {"v_ave", r.bisection->v_ave},
@@ -180,6 +223,29 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
       {"genus",
        "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
        "connected (P 3, G 5, D 9; a ball 0)"},
+      {"euler_characteristic_phase1", "= euler_characteristic (phase 1, phi > 1/2)"},
+      {"euler_characteristic_phase2", "of phase 2 (phi < 1/2), as closed voxels the same way"},
+      {"euler_characteristic_surface",
+       "of the phi = 1/2 surface per computed cell: phase1 + phase2 (= 2 chi(phase 1) for a "
+       "resolved surface; P -4, D -16, G -8 at 1/2)"},
+      {"components_phase1", "connected components of phase 1 on the 3-torus (26-connected "
+                            "voxels); null on a decomposed grid above 128^3"},
+      {"surface_components", "(phase 1, phase 2) component pairs that touch: the surface's "
+                             "connected pieces (a pair meeting on two sheets counts once)"},
+      {"genus_surface", "genus of each connected piece of the surface, 1 - chi_surface / "
+                        "(2 surface_components): their mean when the pieces differ"},
+      {"homogeneity_index", "Gamma = A^(3/2) / (2 pi |chi_surface|)^(1/2), area A per cell of "
+                            "volume 1 (Hyde 1989; any cell of the lattice gives the same)"},
+      {"gaussian_curvature_integral", "integral of K dA over the sharp surface, K from "
+                                      "grad psi and its Hessian like H"},
+      {"gauss_bonnet_error", "gaussian_curvature_integral / (2 pi chi_surface) - 1"},
+      {"mean_gaussian_curvature", "gaussian_curvature_integral / area: <K> a^2"},
+      {"willmore_energy", "integral of H^2 dA over the sharp surface"},
+      {"crystallographic_cell",
+       "the space group's cubic cell the literature states numbers in (P Im-3m, D Pn-3m with "
+       "a/2: 8 per computed cell, G Ia-3d); lattice_parameter over the computed a; area per "
+       "cell in its own units, chi per cell, mean_curvature = H a_c, mean_gaussian_curvature = "
+       "<K> a_c^2 (docs/science.md)"},
       {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
       {"mean_curvature_diffuse",
        "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},
@@ -241,6 +307,16 @@ void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQ
     out += fmt::format("{:.17g},{:.17g},{:.17g},{}\n", q.edges[b], q.edges[b + 1],
                        q.relaxed_hist[b],
                        q.has_nodal ? fmt::format("{:.17g}", q.nodal_hist[b]) : std::string());
+  write_file_atomic(path, out);
+}
+
+void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q) {
+  const OwnRangeHistogram& h = q.relaxed_h_own;
+  const OwnRangeHistogram& k = q.relaxed_k_own;
+  std::string out = "bin,H_lo,H_hi,H_fraction,K_lo,K_hi,K_fraction\n";
+  for (std::size_t b = 0; b < h.fraction.size() && b < k.fraction.size(); ++b)
+    out += fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", b, h.edges[b],
+                       h.edges[b + 1], h.fraction[b], k.edges[b], k.edges[b + 1], k.fraction[b]);
   write_file_atomic(path, out);
 }
 

@@ -61,7 +61,11 @@ nlohmann::json params_json(const RunParams& p);
 // volume_fraction) keep `base`'s values, and every value must pass the command line's range
 // checks (check_run_params). Throws std::runtime_error naming the bad key or range.
 RunParams params_from_json(const nlohmann::json& j, const RunParams& base = {});
-nlohmann::json measures_json(const Measures& m);
+// The measures' keys (NaN as null). curvature_integrals: the keys from the surface's Gaussian
+// curvature and H^2 (homogeneity_index, gaussian_curvature_integral, gauss_bonnet_error,
+// mean_gaussian_curvature, willmore_energy); off for the truncated nodal start, whose psi jumps
+// where the truncation cut phi and whose K is then no estimate of anything.
+nlohmann::json measures_json(const Measures& m, bool curvature_integrals = true);
 
 // The report: the required keys at top level (surface, grid, epsilon, dt,
 // volume_fraction_target, steps, vcycles, converged, area, mean_curvature, mean_curvature_mu,
@@ -81,6 +85,9 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
 nlohmann::json quality_json(const CmcQuality& q, double relaxed_area);
 // curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H).
 void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q);
+// The relaxed surface's H and K distributions, each on its own range: bin, H_lo, H_hi,
+// H_fraction, K_lo, K_hi, K_fraction (area fractions).
+void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q);
 
 // sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
 // booleans; null is an empty cell), the main quantities first.

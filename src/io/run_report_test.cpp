@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace cmcsurf {
 namespace {
@@ -37,6 +38,49 @@ TEST(RunReport, MeasuresWithoutAnErrorEstimateWriteNull) {
   Measures diffuse_only;  // a relaxation's intermediate measures carry no sharp keys
   EXPECT_FALSE(measures_json(diffuse_only).contains("area"));
   EXPECT_TRUE(measures_json(diffuse_only).contains("area_diffuse"));
+}
+
+// A gyroid's phases (chi -4 each) as the keys state them: the surface's chi is the phases'
+// sum, its genus per piece, Gauss-Bonnet against 2 pi chi.
+TEST(RunReport, TopologyAndStandardNumbersKeys) {
+  Measures m;
+  m.sharp = true;
+  m.area = 3.0915;
+  m.euler_characteristic = -4;
+  m.euler_characteristic_phase2 = -4;
+  m.components_phase1 = 1;
+  m.components_phase2 = 1;
+  m.surface_components = 1;
+  m.gaussian_curvature_integral = -16 * std::numbers::pi * 1.01;
+  m.willmore_energy = 0.5;
+  nlohmann::json j = measures_json(m);
+  EXPECT_EQ(j["euler_characteristic"], -4);  // phase 1's, as before
+  EXPECT_EQ(j["genus"], 5);
+  EXPECT_EQ(j["euler_characteristic_surface"], -8);
+  EXPECT_DOUBLE_EQ(j["genus_surface"].get<double>(), 5.0);
+  EXPECT_NEAR(j["homogeneity_index"].get<double>(), 0.7667, 5e-5);  // G, Hyde's sigma
+  EXPECT_NEAR(j["gauss_bonnet_error"].get<double>(), 0.01, 1e-12);
+  EXPECT_NEAR(j["mean_gaussian_curvature"].get<double>(), -16 * std::numbers::pi * 1.01 / 3.0915,
+              1e-12);
+  EXPECT_DOUBLE_EQ(j["willmore_energy"].get<double>(), 0.5);
+  // Two surfaces of genus 5 (a double gyroid's): chi -16 over 2 pieces.
+  m.euler_characteristic = m.euler_characteristic_phase2 = -8;
+  m.components_phase1 = 2;
+  m.surface_components = 2;
+  j = measures_json(m);
+  EXPECT_DOUBLE_EQ(j["genus_surface"].get<double>(), 5.0);
+  EXPECT_EQ(j["components_phase1"], 2);
+  // Not computed (a large decomposed grid), or a surface with chi 0: null, not a number.
+  m.components_phase1 = m.components_phase2 = m.surface_components = -1;
+  m.euler_characteristic = m.euler_characteristic_phase2 = 0;
+  j = measures_json(m);
+  EXPECT_TRUE(j["components_phase1"].is_null());
+  EXPECT_TRUE(j["genus_surface"].is_null());
+  EXPECT_TRUE(j["homogeneity_index"].is_null());
+  EXPECT_TRUE(j["gauss_bonnet_error"].is_null());
+  // The truncated nodal start: topology, but no curvature integrals.
+  EXPECT_FALSE(measures_json(m, false).contains("willmore_energy"));
+  EXPECT_TRUE(measures_json(m, false).contains("euler_characteristic_surface"));
 }
 
 }  // namespace

@@ -27,13 +27,18 @@ CurvatureDistribution summarize(const std::vector<CurvatureSample>& samples,
   return out;
 }
 
-std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samples, double lo,
-                                        double hi, int bins, const Decomposition* d) {
+namespace {
+
+double value_of(const CurvatureSample& s, bool gaussian) { return gaussian ? s.k : s.h; }
+
+std::vector<double> histogram_of(const std::vector<CurvatureSample>& samples, bool gaussian,
+                                 double lo, double hi, int bins, const Decomposition* d) {
   if (bins < 1 || !(hi > lo)) throw std::invalid_argument("curvature_histogram: bad range");
   std::vector<double> hist(bins, 0.0);
   double total = 0.0;
   for (const CurvatureSample& s : samples) {
-    const int b = std::clamp(int(std::floor((s.h - lo) / (hi - lo) * bins)), 0, bins - 1);
+    const double v = value_of(s, gaussian);
+    const int b = std::clamp(int(std::floor((v - lo) / (hi - lo) * bins)), 0, bins - 1);
     hist[b] += s.w;
     total += s.w;
   }
@@ -44,6 +49,45 @@ std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samp
   if (total > 0.0)
     for (double& v : hist) v /= total;
   return hist;
+}
+
+}  // namespace
+
+std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samples, double lo,
+                                        double hi, int bins, const Decomposition* d) {
+  return histogram_of(samples, false, lo, hi, bins, d);
+}
+
+OwnRangeHistogram own_range_histogram(const std::vector<CurvatureSample>& samples,
+                                      bool gaussian, int bins, const Decomposition* d) {
+  OwnRangeHistogram out;
+  double sums[2] = {0.0, 0.0};  // sw, sw v
+  for (const CurvatureSample& s : samples) {
+    sums[0] += s.w;
+    sums[1] += s.w * value_of(s, gaussian);
+  }
+  if (d) d->sum(sums, 2);
+  if (sums[0] > 0.0) {
+    out.mean = sums[1] / sums[0];
+    double var = 0.0;  // two passes, as in summarize
+    for (const CurvatureSample& s : samples) {
+      const double e = value_of(s, gaussian) - out.mean;
+      var += s.w * e * e;
+    }
+    if (d) var = d->sum(var);
+    out.std = std::sqrt(var / sums[0]);
+  }
+  double lo = out.mean - 4.0 * out.std, hi = out.mean + 4.0 * out.std;
+  // A constant quantity (a ball's H) or no samples: a range of its own scale around it.
+  const double floor = 1e-6 * (1.0 + std::abs(out.mean));
+  if (!(hi - lo > floor)) {
+    lo = out.mean - floor;
+    hi = out.mean + floor;
+  }
+  out.edges.resize(bins + 1);
+  for (int b = 0; b <= bins; ++b) out.edges[b] = lo + (hi - lo) * b / bins;
+  out.fraction = histogram_of(samples, gaussian, lo, hi, bins, d);
+  return out;
 }
 
 void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relaxed,
@@ -64,6 +108,8 @@ void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relax
   for (int b = 0; b <= kHistogramBins; ++b) q.edges[b] = lo + (hi - lo) * b / kHistogramBins;
   q.relaxed_hist = curvature_histogram(relaxed, lo, hi, kHistogramBins, d);
   if (nodal) q.nodal_hist = curvature_histogram(*nodal, lo, hi, kHistogramBins, d);
+  q.relaxed_h_own = own_range_histogram(relaxed, false, kHistogramBins, d);
+  q.relaxed_k_own = own_range_histogram(relaxed, true, kHistogramBins, d);
 }
 
 }  // namespace cmcsurf

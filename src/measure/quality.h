@@ -29,6 +29,18 @@ std::vector<double> curvature_histogram(const std::vector<CurvatureSample>& samp
 
 inline constexpr int kHistogramBins = 48;
 
+// The area-weighted distribution of the local H (or, gaussian, of K) on one surface, binned on
+// that surface's own range, mean +- 4 std of the quantity (values outside go to the end bins),
+// so that a relaxed surface's narrow H distribution spreads over the bins instead of falling
+// into the few that the nodal surface's wide one leaves it.
+struct OwnRangeHistogram {
+  std::vector<double> edges;     // bins + 1
+  std::vector<double> fraction;  // of the area per bin
+  double mean = 0.0, std = 0.0;
+};
+OwnRangeHistogram own_range_histogram(const std::vector<CurvatureSample>& samples,
+                                      bool gaussian, int bins, const Decomposition* d = nullptr);
+
 // CMC quality of a relaxed surface and of the nodal surface at the same volume fraction, both
 // measured by the sharp estimators.
 struct CmcQuality {
@@ -46,6 +58,8 @@ struct CmcQuality {
   // fraction of each distribution per bin.
   std::vector<double> edges;
   std::vector<double> relaxed_hist, nodal_hist;
+  // The relaxed surface's H and K each on its own range (curvature_distribution.csv).
+  OwnRangeHistogram relaxed_h_own, relaxed_k_own;
   double seconds = 0.0;  // wall time of the whole comparison (pipeline/sweep.h)
 };
 

@@ -33,6 +33,40 @@ TEST(Quality, HistogramIsAFractionOfArea) {
   EXPECT_THROW(curvature_histogram(s, 1.0, 1.0, 4), std::invalid_argument);
 }
 
+// A relaxed surface's narrow H (here 2 + 0.01 sin t: std 0.01/sqrt2, range +-1.41 std) on its own
+// range mean +- 4 std: 35 % of the 48 bins carry it, against a few on a range it shares with
+// a wide nodal distribution; K likewise on its own.
+TEST(Quality, OwnRangeHistogramsSpreadANarrowDistribution) {
+  std::vector<CurvatureSample> s;
+  for (int i = 0; i < 4000; ++i) {
+    const double t = 2 * 3.141592653589793 * (i + 0.5) / 4000;
+    s.push_back({2.0 + 0.01 * std::sin(t), 1.0, -30.0 + 5.0 * std::cos(t)});
+  }
+  const OwnRangeHistogram h = own_range_histogram(s, false, kHistogramBins);
+  EXPECT_NEAR(h.mean, 2.0, 1e-12);
+  EXPECT_NEAR(h.std, 0.01 / std::sqrt(2.0), 1e-9);
+  ASSERT_EQ(h.edges.size(), std::size_t(kHistogramBins + 1));
+  EXPECT_NEAR(h.edges.front(), 2.0 - 4 * h.std, 1e-12);
+  EXPECT_NEAR(h.edges.back(), 2.0 + 4 * h.std, 1e-12);
+  int used = 0;
+  double sum = 0.0;
+  for (double f : h.fraction) {
+    used += f > 0.0;
+    sum += f;
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-12);
+  EXPECT_GE(used, 16);  // 48 x 2 x 1.41 / 8 = 17 bins, less one at each end
+  const OwnRangeHistogram k = own_range_histogram(s, true, kHistogramBins);
+  EXPECT_NEAR(k.mean, -30.0, 1e-9);
+  EXPECT_NEAR(k.std, 5.0 / std::sqrt(2.0), 1e-9);
+  // A constant H (a ball's) still gets a range and all of its area in one bin.
+  const std::vector<CurvatureSample> ball = {{5.0, 1.0}, {5.0, 3.0}};
+  const OwnRangeHistogram b = own_range_histogram(ball, false, 4);
+  EXPECT_LT(b.edges.front(), 5.0);
+  EXPECT_GT(b.edges.back(), 5.0);
+  EXPECT_DOUBLE_EQ(b.fraction[2], 1.0);
+}
+
 TEST(Quality, DistributionsShareOneHistogramRange) {
   const std::vector<CurvatureSample> relaxed = {{1.0, 1.0}, {1.01, 1.0}};
   const std::vector<CurvatureSample> nodal = {{0.0, 1.0}, {3.0, 1.0}};

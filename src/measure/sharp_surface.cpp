@@ -85,20 +85,22 @@ bool crosses(const double s[8]) {
 }
 
 struct Sums {
-  double area = 0.0, area_h = 0.0, area_h2 = 0.0, triangles = 0.0;
+  double area = 0.0, area_h = 0.0, area_h2 = 0.0, area_k = 0.0, triangles = 0.0;
 };
 
-// Adds the triangles of one dual cell (corner psi s, corner H) to the sums and samples.
-inline void add_cube(const double s[8], const double hc[8], double h2, Sums& sums,
-                     std::vector<CurvatureSample>* samples) {
+// Adds the triangles of one dual cell (corner psi s, corner H and K) to the sums and samples.
+inline void add_cube(const double s[8], const double hc[8], const double kc[8], double h2,
+                     Sums& sums, std::vector<CurvatureSample>* samples) {
   cube_triangles(s, [&](double a, const double* x) {
     const double hx = trilinear(hc, x);
+    const double kx = trilinear(kc, x);
     a *= h2;
     sums.area += a;
     sums.area_h += a * hx;
     sums.area_h2 += a * hx * hx;
+    sums.area_k += a * kx;
     sums.triangles += 1.0;
-    if (samples) samples->push_back({hx, a});
+    if (samples) samples->push_back({hx, a, kx});
   });
 }
 
@@ -106,6 +108,8 @@ LevelSetSurface finish(Sums s) {
   LevelSetSurface out;
   out.area = s.area;
   out.triangles = std::size_t(s.triangles);
+  out.gaussian_curvature_integral = s.area_k;
+  out.willmore_energy = s.area_h2;
   if (s.area > 0.0) {
     out.mean_curvature = s.area_h / s.area;
     const double var = s.area_h2 / s.area - out.mean_curvature * out.mean_curvature;
@@ -154,6 +158,25 @@ double level_set_mean_curvature(const double* p, std::ptrdiff_t sy, std::ptrdiff
   return -0.5 * num / (g2 * std::sqrt(g2)) * inv_h;
 }
 
+double level_set_gaussian_curvature(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz,
+                                    double inv_h) {
+  const double c2 = 2.0 * p[0];
+  const double px = 0.5 * (p[1] - p[-1]), py = 0.5 * (p[sy] - p[-sy]), pz = 0.5 * (p[sz] - p[-sz]);
+  const double pxx = p[1] + p[-1] - c2, pyy = p[sy] + p[-sy] - c2, pzz = p[sz] + p[-sz] - c2;
+  const double pxy = 0.25 * ((p[1 + sy] - p[1 - sy]) - (p[-1 + sy] - p[-1 - sy]));
+  const double pxz = 0.25 * ((p[1 + sz] - p[1 - sz]) - (p[-1 + sz] - p[-1 - sz]));
+  const double pyz = 0.25 * ((p[sy + sz] - p[sy - sz]) - (p[-sy + sz] - p[-sy - sz]));
+  const double g2 = px * px + py * py + pz * pz;
+  if (g2 < kFlat) return 0.0;
+  // The adjugate (cofactor matrix) of the symmetric Hessian.
+  const double axx = pyy * pzz - pyz * pyz, ayy = pxx * pzz - pxz * pxz;
+  const double azz = pxx * pyy - pxy * pxy, axy = pxz * pyz - pxy * pzz;
+  const double axz = pxy * pyz - pxz * pyy, ayz = pxy * pxz - pxx * pyz;
+  const double num = px * px * axx + py * py * ayy + pz * pz * azz +
+                     2.0 * (px * py * axy + px * pz * axz + py * pz * ayz);
+  return num / (g2 * g2) * inv_h * inv_h;
+}
+
 LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>* samples) {
   require_ghost(psi, 2, "level_set_surface");
   CMCSURF_DCHECK(halo_is_current(psi));
@@ -178,10 +201,12 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
           double s[8];
           for (int c = 0; c < 8; ++c) s[c] = p[off[c]];
           if (!crosses(s)) continue;
-          double hc[8];
-          for (int c = 0; c < 8; ++c)
+          double hc[8], kc[8];
+          for (int c = 0; c < 8; ++c) {
             hc[c] = level_set_mean_curvature(p + off[c], sy, sz, inv_h);
-          add_cube(s, hc, h2, sums, out);
+            kc[c] = level_set_gaussian_curvature(p + off[c], sy, sz, inv_h);
+          }
+          add_cube(s, hc, kc, h2, sums, out);
         }
       }
       plane_sums[k] = sums;
@@ -192,15 +217,16 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
     total.area += s.area;
     total.area_h += s.area_h;
     total.area_h2 += s.area_h2;
+    total.area_k += s.area_k;
     total.triangles += s.triangles;
   }
-  double reduced[4] = {total.area, total.area_h, total.area_h2, total.triangles};
-  psi.sum_over_ranks(reduced, 4);
+  double reduced[5] = {total.area, total.area_h, total.area_h2, total.area_k, total.triangles};
+  psi.sum_over_ranks(reduced, 5);
   if (samples) {
     samples->clear();
     for (auto& p : planes) samples->insert(samples->end(), p.begin(), p.end());
   }
-  return finish({reduced[0], reduced[1], reduced[2], reduced[3]});
+  return finish({reduced[0], reduced[1], reduced[2], reduced[3], reduced[4]});
 }
 
 LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSample>* samples) {
@@ -211,7 +237,9 @@ LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSam
     return psi((i % n + n) % n, (j % n + n) % n, (k % n + n) % n);
   };
   // H = -div(grad psi / |grad psi|) / 2 written out with plain central differences.
-  auto mean_curvature_at = [&](int i, int j, int k) {
+  // H = -div(grad psi / |grad psi|) / 2 and K = g . adj(Hess) . g / |g|^4, written out with
+  // plain central differences.
+  auto curvatures_at = [&](int i, int j, int k, double& hm, double& kg) {
     const double dx = (at(i + 1, j, k) - at(i - 1, j, k)) / (2 * h);
     const double dy = (at(i, j + 1, k) - at(i, j - 1, k)) / (2 * h);
     const double dz = (at(i, j, k + 1) - at(i, j, k - 1)) / (2 * h);
@@ -226,24 +254,40 @@ LevelSetSurface level_set_surface_ref(const Field& psi, std::vector<CurvatureSam
     const double dyz = (at(i, j + 1, k + 1) - at(i, j + 1, k - 1) - at(i, j - 1, k + 1) +
                         at(i, j - 1, k - 1)) / (4 * h * h);
     const double g2 = dx * dx + dy * dy + dz * dz;
-    if (g2 * h * h < kFlat) return 0.0;
+    hm = kg = 0.0;
+    if (g2 * h * h < kFlat) return;
     const double lap = dxx + dyy + dzz;
     const double hess = dx * dx * dxx + dy * dy * dyy + dz * dz * dzz +
                         2 * (dx * dy * dxy + dx * dz * dxz + dy * dz * dyz);
-    return -0.5 * (g2 * lap - hess) / std::pow(g2, 1.5);
+    hm = -0.5 * (g2 * lap - hess) / std::pow(g2, 1.5);
+    // K = -det [[Hess, g], [g^T, 0]] / |g|^4, the determinant expanded along its last row.
+    const double m[4][4] = {{dxx, dxy, dxz, dx}, {dxy, dyy, dyz, dy}, {dxz, dyz, dzz, dz},
+                            {dx, dy, dz, 0.0}};
+    double det = 0.0;
+    for (int col = 0; col < 4; ++col) {
+      double minor[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0, cc = 0; c < 4; ++c)
+          if (c != col) minor[r][cc++] = m[r][c];
+      const double d3 = minor[0][0] * (minor[1][1] * minor[2][2] - minor[1][2] * minor[2][1]) -
+                        minor[0][1] * (minor[1][0] * minor[2][2] - minor[1][2] * minor[2][0]) +
+                        minor[0][2] * (minor[1][0] * minor[2][1] - minor[1][1] * minor[2][0]);
+      det += ((3 + col) % 2 ? -1.0 : 1.0) * m[3][col] * d3;
+    }
+    kg = -det / (g2 * g2);
   };
   Sums sums;
   if (samples) samples->clear();
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        double s[8], hc[8];
+        double s[8], hc[8], kc[8];
         for (int c = 0; c < 8; ++c) {
           const int a = i + kCubeCorner[c][0], b = j + kCubeCorner[c][1], d = k + kCubeCorner[c][2];
           s[c] = at(a, b, d);
-          hc[c] = mean_curvature_at(a, b, d);
+          curvatures_at(a, b, d, hc[c], kc[c]);
         }
-        if (crosses(s)) add_cube(s, hc, h * h, sums, samples);
+        if (crosses(s)) add_cube(s, hc, kc, h * h, sums, samples);
       }
   return finish(sums);
 }

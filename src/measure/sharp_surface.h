@@ -23,10 +23,12 @@
 
 namespace cmcsurf {
 
-// A local mean curvature H on the surface and the area w it stands for.
+// A local mean curvature H on the surface, the area w it stands for and the local Gaussian
+// curvature K there.
 struct CurvatureSample {
   double h = 0.0;
   double w = 0.0;
+  double k = 0.0;
 };
 
 // psi = atanh(2 phi - 1), with 2 phi - 1 clamped to +-(1 - 1e-12) (|psi| <= 14.2). psi has the
@@ -39,6 +41,11 @@ void tanh_profile_inverse(const Field& phi, Field& psi);
 // storage; 0 where |grad psi| vanishes.
 double level_set_mean_curvature(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz,
                                 double inv_h);
+// Gaussian curvature of the level sets of psi at one cell from the same differences:
+// K = g . adj(Hess psi) . g / |g|^4 with g = grad psi (Goldman 2005), independent of the sign of
+// psi (1/r^2 on a sphere); 0 where |grad psi| vanishes.
+double level_set_gaussian_curvature(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz,
+                                    double inv_h);
 
 // The zero set of psi's piecewise-linear interpolant over the dual cells (cubes between eight
 // cell centres, split into Kuhn tetrahedra), as area-weighted curvature samples: one per
@@ -47,6 +54,8 @@ struct LevelSetSurface {
   double area = 0.0;
   double mean_curvature = 0.0;      // sum(a H) / sum(a)
   double mean_curvature_std = 0.0;  // sqrt(sum(a (H - mean)^2) / sum(a))
+  double gaussian_curvature_integral = 0.0;  // sum(a K): 2 pi chi of a closed surface
+  double willmore_energy = 0.0;              // sum(a H^2)
   std::size_t triangles = 0;
 };
 // Reads psi's interior and two ghost layers (halo current); works on a decomposed block, with

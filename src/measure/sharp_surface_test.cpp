@@ -111,11 +111,66 @@ TEST(SharpSurface, ReferenceTwinGivesTheSameSamples) {
   for (std::size_t t = 0; t < fast.size(); ++t) {
     ASSERT_NEAR(fast[t].h, ref[t].h, 1e-9 * (1 + std::abs(ref[t].h))) << t;
     ASSERT_NEAR(fast[t].w, ref[t].w, 1e-15) << t;
+    // K is a ratio of fourth powers of differences: 1e-9 relative to the K^2 ~ H^2 scale.
+    ASSERT_NEAR(fast[t].k, ref[t].k, 1e-9 * (1 + ref[t].h * ref[t].h)) << t;
   }
   EXPECT_EQ(a.triangles, b.triangles);
   EXPECT_NEAR(a.area, b.area, 1e-12 * b.area);
   EXPECT_NEAR(a.mean_curvature, b.mean_curvature, 1e-9);
   EXPECT_NEAR(a.mean_curvature_std, b.mean_curvature_std, 1e-9);
+  EXPECT_NEAR(a.gaussian_curvature_integral, b.gaussian_curvature_integral,
+              1e-9 * std::abs(b.gaussian_curvature_integral));
+  EXPECT_NEAR(a.willmore_energy, b.willmore_energy, 1e-9 * b.willmore_energy);
+}
+
+TEST(SharpSurface, GaussianCurvatureOfABallConvergesAndMeetsGaussBonnet) {
+  // K = 1/r^2 everywhere on a sphere; its integral 4 pi = 2 pi chi (a sphere, chi 2), and the
+  // Willmore energy integral H^2 dA = 4 pi for any radius.
+  const double r = 0.3, eps = 0.01;
+  double err[2];
+  const int grids[2] = {32, 64};
+  for (int g = 0; g < 2; ++g) {
+    const SharpMeasures m = sharp_measures(tanh_ball(grids[g], r, eps));
+    err[g] = std::abs(m.gaussian_curvature_integral / (4 * kPi) - 1.0);
+    EXPECT_NEAR(m.willmore_energy, 4 * kPi, 2e-2 * 4 * kPi) << grids[g];
+  }
+  // Second order: 64^3 within 1e-3 (a sphere of 19 cells' radius), and the error falls ~4x.
+  EXPECT_LT(err[1], 1e-3);
+  EXPECT_GT(std::log2(err[0] / err[1]), 1.5);
+}
+
+TEST(SharpSurface, GaussianCurvatureOfACylinderAndOfPlanesVanishes) {
+  const double r = 0.25;
+  const Field cylinder = sample(64, [=](double x, double y, double) {
+    return profile(r - std::hypot(x - 0.5, y - 0.5), 0.01);
+  });
+  std::vector<CurvatureSample> samples;
+  const SharpMeasures m = sharp_measures(cylinder, &samples);
+  // Flat along the axis: K = 0 up to the O(h^2) error of H^2-sized terms (1/r^2 = 16).
+  EXPECT_NEAR(m.gaussian_curvature_integral / m.area, 0.0, 1e-3 / (r * r));
+  EXPECT_NEAR(m.willmore_energy, m.area * 0.25 / (r * r), 2e-3 * m.willmore_energy);
+  double worst = 0.0;
+  for (const CurvatureSample& s : samples) worst = std::max(worst, std::abs(s.k));
+  EXPECT_LT(worst * r * r, 0.02);
+}
+
+TEST(SharpSurface, GaussBonnetOnATorusAndAGyroidLevelSet) {
+  // A torus of radii 0.3 and 0.1 (chi 0) and the gyroid level set F = 0 (chi -8 per cell:
+  // genus 5) from their level-set functions, not from a tanh profile: K integrates to 2 pi chi.
+  const Field torus = sample(64, [](double x, double y, double z) {
+    const double q = std::hypot(x - 0.5, y - 0.5) - 0.3;
+    return 0.1 - std::hypot(q, z - 0.5);
+  });
+  const LevelSetSurface t = level_set_surface(torus);
+  // Within 1 % of the integral of |K|, 8 pi for any torus.
+  EXPECT_NEAR(t.gaussian_curvature_integral, 0.0, 1e-2 * 8 * kPi);
+  const Field gyroid = sample(64, [](double x, double y, double z) {
+    const double w = 2 * kPi;
+    return std::sin(w * x) * std::cos(w * y) + std::sin(w * y) * std::cos(w * z) +
+           std::sin(w * z) * std::cos(w * x);
+  });
+  const LevelSetSurface g = level_set_surface(gyroid);
+  EXPECT_NEAR(g.gaussian_curvature_integral / (2 * kPi * -8.0), 1.0, 5e-3);
 }
 
 TEST(SharpSurface, TanhProfileInverseIsTheScaledDistance) {

@@ -22,4 +22,23 @@ std::int64_t euler_characteristic(const Field& phi, double level = 0.5);
 // Plain twin: whole grid, periodic index wrap (no halo), serial.
 std::int64_t euler_characteristic_ref(const Field& phi, double level = 0.5);
 
+// The same of phase 2, {phi < level}, also as closed, 26-connected voxels. Where the surface
+// between the phases is resolved (no voxels touching only at an edge or a corner across it)
+// both phases are handlebodies bounded by the same surface, so chi(phase 2) = chi(phase 1) and
+// the surface's chi = chi(phase 1) + chi(phase 2) (chi(boundary of M) = 2 chi(M)).
+std::int64_t euler_characteristic_phase2(const Field& phi, double level = 0.5);
+std::int64_t euler_characteristic_phase2_ref(const Field& phi, double level = 0.5);
+
+// Connected components on the 3-torus of phase 1 ({phi > level}) and phase 2 ({phi < level}),
+// each 26-connected as in euler_characteristic, and the number of (phase 1 component, phase 2
+// component) pairs that share a voxel face: the surface's components when no pair of
+// components meets along two separate sheets (two parallel planes count once; their genus, 1,
+// is the same either way). Whole grid only (a decomposed run gathers it first).
+struct PhaseComponents {
+  std::int64_t phase1 = 0;
+  std::int64_t phase2 = 0;
+  std::int64_t interfaces = 0;
+};
+PhaseComponents phase_components(const Field& phi, double level = 0.5);
+
 }  // namespace cmcsurf

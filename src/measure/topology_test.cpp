@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "../../tests/test_fields.h"
 #include "surfaces/initial.h"
@@ -58,8 +59,69 @@ TEST(Topology, NodalSurfacesHaveTheirGenus) {
 
 TEST(Topology, MatchesReferenceOnRandomField) {
   const Field f = testing::random_field(24, 1, 0.0, 1.0, 7);
-  for (double level : {0.2, 0.5, 0.8})
+  for (double level : {0.2, 0.5, 0.8}) {
     EXPECT_EQ(euler_characteristic(f, level), euler_characteristic_ref(f, level)) << level;
+    EXPECT_EQ(euler_characteristic_phase2(f, level), euler_characteristic_phase2_ref(f, level))
+        << level;
+  }
+}
+
+// Both labyrinths of P, G, D at alpha = 1/2 are congruent handlebodies: the same chi, one
+// component each, one surface of chi = 2 chi(phase 1) (P -4, G -8, D -16).
+TEST(Topology, BothPhasesOfTheNodalSurfaces) {
+  for (const char* s : {"P", "G", "D"}) {
+    const Field f = nodal(s, 32);
+    EXPECT_EQ(euler_characteristic_phase2(f), euler_characteristic(f)) << s;
+    const PhaseComponents c = phase_components(f);
+    EXPECT_EQ(c.phase1, 1) << s;
+    EXPECT_EQ(c.phase2, 1) << s;
+    EXPECT_EQ(c.interfaces, 1) << s;
+  }
+}
+
+TEST(Topology, ComponentsOfBallsSlabsAndTwoNetworks) {
+  const int n = 32;
+  // Two balls in a matrix: two phase-1 components, one matrix, two spheres.
+  const Field two = sample_at_centres(n, 2, [](double x, double y, double z) {
+    return std::hypot(x - 0.25, y - 0.5, z - 0.5) < 0.15 ||
+                   std::hypot(x - 0.75, y - 0.5, z - 0.5) < 0.15
+               ? 1.0
+               : 0.0;
+  });
+  PhaseComponents c = phase_components(two);
+  EXPECT_EQ(c.phase1, 2);
+  EXPECT_EQ(c.phase2, 1);
+  EXPECT_EQ(c.interfaces, 2);
+  EXPECT_EQ(euler_characteristic_phase2(two), 2);  // T^3 minus two balls: chi 0 - 2 + 2 x 2
+  // A ball crossing the periodic faces is one component.
+  const Field corner = sample_at_centres(n, 2, [](double x, double y, double z) {
+    const double dx = std::min(x, 1 - x), dy = std::min(y, 1 - y), dz = std::min(z, 1 - z);
+    return std::hypot(dx, dy, dz) < 0.2 ? 1.0 : 0.0;
+  });
+  c = phase_components(corner);
+  EXPECT_EQ(c.phase1, 1);
+  EXPECT_EQ(c.phase2, 1);
+  // A slab: one component of each phase; its two planes count as one interface.
+  const Field slab = sample_at_centres(n, 2, [](double x, double, double) {
+    return x > 0.3 && x < 0.6 ? 1.0 : 0.0;
+  });
+  c = phase_components(slab);
+  EXPECT_EQ(c.phase1, 1);
+  EXPECT_EQ(c.phase2, 1);
+  EXPECT_EQ(c.interfaces, 1);
+  // Two gyroid networks in a matrix, {|F| > 0.9}: two phase-1 components of chi -4 each.
+  const Field dg = sample_at_centres(n, 2, [](double x, double y, double z) {
+    const double w = 2 * std::numbers::pi;
+    const double f = std::sin(w * x) * std::cos(w * y) + std::sin(w * y) * std::cos(w * z) +
+                     std::sin(w * z) * std::cos(w * x);
+    return std::abs(f) > 0.9 ? 1.0 : 0.0;
+  });
+  c = phase_components(dg);
+  EXPECT_EQ(c.phase1, 2);
+  EXPECT_EQ(c.phase2, 1);
+  EXPECT_EQ(c.interfaces, 2);
+  EXPECT_EQ(euler_characteristic(dg), -8);
+  EXPECT_EQ(euler_characteristic_phase2(dg), -8);
 }
 
 }  // namespace

@@ -192,8 +192,10 @@ nlohmann::json mesh_stats_json(const MeshStats& s, const std::array<int, 3>& til
       {"edges", s.edges},
       {"area", s.area},
       {"area_units", units + "^2"},
-      {"euler_characteristic", s.euler},
-      {"euler_characteristic_per_cell", double(s.euler) / cells},
+      // V - E + F of the file's mesh: an Euler characteristic only where the mesh is closed (a
+      // solid); a surface mesh is cut open at the cell faces and tile faces.
+      {"v_minus_e_plus_f", s.euler},
+      {"v_minus_e_plus_f_per_cell", double(s.euler) / cells},
       {"bounding_box", {{"min", s.min}, {"max", s.max}, {"units", units}}},
       {"checks",
        {{"closed", s.closed()},
@@ -205,6 +207,7 @@ nlohmann::json mesh_stats_json(const MeshStats& s, const std::array<int, 3>& til
         {"degenerate_triangles", s.degenerate_triangles},
         {"duplicate_triangles", s.duplicate_triangles},
         {"unused_vertices", s.unused_vertices}}}};
+  if (s.closed()) j["euler_characteristic"] = s.euler;
   if (solid) {
     j["volume"] = s.volume;
     j["volume_units"] = units + "^3";

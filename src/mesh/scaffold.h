@@ -73,8 +73,8 @@ Scaffold build_surface_scaffold(const PlaneFn& plane, int n, const ScaffoldParam
 TriMesh periodic_surface_mesh(const PlaneFn& plane, int n, double iso = 0.5);
 nlohmann::json periodic_surface_json(const PlaneFn& plane, int n);
 
-// Mesh measures and checks in output units: counts, area, volume (solids), Euler
-// characteristic (also per tile), bounding box, edge and vertex checks.
+// Mesh measures and checks in output units: counts, area, volume (solids), V - E + F (also per
+// tile; the Euler characteristic only of a closed mesh), bounding box, edge and vertex checks.
 nlohmann::json mesh_stats_json(const MeshStats& s, const std::array<int, 3>& tiles,
                                const std::string& units, bool solid);
 // Topology and area of the periodic surface of one cell (unit-cell units).

@@ -152,7 +152,7 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   // Measures of the mesh as written.
   const MeshStats s = analyze_mesh(e.mesh);
   r = mesh_stats_json(s, {1, 1, 1}, d.units, true);
-  r.erase("euler_characteristic_per_cell");
+  r.erase("v_minus_e_plus_f_per_cell");
   const double porosity = 1.0 - s.volume / lat.porosity_volume();
   // The warning is about the part as written (decimation moves the volume by up to 0.5 %).
   if (std::abs(porosity - d.porosity) > kNetworkPorosityTol) {

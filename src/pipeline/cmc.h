@@ -94,6 +94,20 @@ struct Measures {
   // Of phase 1 as closed voxels (measure/topology.h); with sharp. 1 - chi is the genus of the
   // surface per unit cell when both phases are connected: which member of a family a run found.
   std::int64_t euler_characteristic = 0;
+  std::int64_t euler_characteristic_phase2 = 0;  // of phi < 1/2, the same way
+  // Connected components of each phase and (phase 1, phase 2) component pairs that touch
+  // (measure/topology.h's phase_components); -1 where not computed (a decomposed grid above
+  // kComponentsGatherMaxN).
+  std::int64_t components_phase1 = -1;
+  std::int64_t components_phase2 = -1;
+  std::int64_t surface_components = -1;
+  // Of the sharp surface (measure/sharp_surface.h): integral K dA and integral H^2 dA.
+  double gaussian_curvature_integral = 0.0;
+  double willmore_energy = 0.0;
+  // chi of the surface: chi(phase 1) + chi(phase 2) (each half of it when they agree).
+  std::int64_t euler_characteristic_surface() const {
+    return euler_characteristic + euler_characteristic_phase2;
+  }
 };
 // Every measure, the sharp ones included (one extra pass over the grid and one over the
 // surface). phi needs ghost >= 2; its halo is refreshed here.
