@@ -77,6 +77,16 @@ assert abs(dp - 0.692e-3 * 1e-3 / (k * 4e-6)) <= 1e-9 * dp
 tau = p["wall_shear_stress_mpa"]
 assert 0 < tau["p5"] <= tau["median"] <= tau["p95"] <= tau["max"], tau
 assert abs(sum(tau["histogram"]) - 1) < 1e-9
+# The flow along each axis: z is the key above; the axes' mean is the mean of the three, which
+# agree for a cubic member (its relaxed field is cubic to the solver's tolerance).
+axes = p["wall_shear_stress_mpa_per_axis"]
+assert sorted(axes) == ["x", "y", "z"] and axes["z"]["mean"] == tau["mean"], axes
+mean = p["wall_shear_stress_mpa_axis_mean"]
+assert mean["axes"] == 3
+for key in ("mean", "median", "p95"):
+    assert abs(mean[key] - sum(axes[a][key] for a in "xyz") / 3) <= 1e-12 * mean[key], key
+    assert max(abs(axes[a][key] / mean[key] - 1) for a in "xyz") < 0.02, (key, axes)
+assert p["pressure_drop_pa_per_m_per_axis"][2] == dp
 PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
