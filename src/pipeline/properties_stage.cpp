@@ -469,6 +469,13 @@ void add_summary(nlohmann::json& out, const nlohmann::json& p, const std::string
     const std::string error = std::string(key) + "_error";
     if (p.contains(error)) out[prefix + error] = p[error];
   }
+  // The flow's scalars for the chart's Kozeny-Carman line and the sweep's columns: S per cell
+  // size, c, and the mean wall shear stress (mu U / L) averaged over the axes with flow.
+  if (p.contains("permeability"))
+    for (const char* key : {"specific_surface", "kozeny_carman_constant"})
+      if (p.contains(key)) out[prefix + key] = p[key];
+  if (p.contains("wall_shear_stress_axis_mean"))
+    out[prefix + "wall_shear_stress"] = p["wall_shear_stress_axis_mean"]["mean"];
 }
 
 }  // namespace
