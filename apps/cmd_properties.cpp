@@ -144,6 +144,10 @@ void print_summary(const nlohmann::json& j) {
       row("wall shear p95 (z, mPa)", "p95", -1, "wall_shear_stress_mpa");
       row("pressure drop (z, Pa/m)", "pressure_drop_pa_per_m", -1);
     }
+    if (j.contains("wall_shear_stress_axis_mean"))
+      row("wall shear mean (axes, mu U/L)", "mean", -1, "wall_shear_stress_axis_mean");
+    if (j.contains("wall_shear_stress_mpa_axis_mean"))
+      row("wall shear mean (axes, mPa)", "mean", -1, "wall_shear_stress_mpa_axis_mean");
   }
   for (const auto& s : sides)
     for (const auto& w : (*s.second)["warnings"])

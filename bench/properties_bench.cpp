@@ -148,15 +148,19 @@ void BM_StokesPreconditioner(benchmark::State& state) {
 }
 BENCHMARK(BM_StokesPreconditioner)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
-// The permeability tensor (three load cases) of the gyroid network at porosity 0.7; counters:
-// k_xx in cell-size^2, the largest MINRES iteration count, bytes per cell (128^3 takes
-// minutes: --benchmark_filter='Permeability/128').
+// The permeability tensor (three load cases) of the gyroid network at porosity 0.7 with the
+// multigrid (second argument 0) or the FFT (1) velocity block; wall time (threads from
+// OMP_NUM_THREADS); counters: k_xx in cell-size^2, the largest MINRES iteration count, bytes
+// per cell (128^3 takes minutes: --benchmark_filter='Permeability/128').
 void BM_Permeability(benchmark::State& state) {
   const int n = int(state.range(0));
   const auto s = gyroid(n);
+  FlowOptions o;
+  o.velocity_preconditioner =
+      state.range(1) == 0 ? VelocityPreconditioner::multigrid : VelocityPreconditioner::fft;
   FlowResult r;
   for (auto _ : state) {
-    r = compute_permeability(n, s);
+    r = compute_permeability(n, s, o);
     benchmark::DoNotOptimize(r.permeability.data());
   }
   int most = 0;
@@ -165,7 +169,51 @@ void BM_Permeability(benchmark::State& state) {
   state.counters["k11_cell2"] = r.permeability[0][0] / (double(n) * n);
   state.counters["bytes_per_cell"] = double(r.bytes) / (double(n) * n * n);
 }
-BENCHMARK(BM_Permeability)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_Permeability)
+    ->ArgsProduct({{32, 64, 128}, {0, 1}})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// The multigrid's cycle: arguments n, Jacobi sweeps, coarse visits (1 V, 2 W); wall time and
+// the counters of BM_Permeability.
+void BM_PermeabilityMultigridCycle(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  FlowOptions o;
+  o.multigrid.sweeps = int(state.range(1));
+  o.multigrid.cycles = int(state.range(2));
+  FlowResult r;
+  for (auto _ : state) {
+    r = compute_permeability(n, s, o);
+    benchmark::DoNotOptimize(r.permeability.data());
+  }
+  int most = 0;
+  for (const auto& c : r.load_cases) most = std::max(most, c.iterations);
+  state.counters["minres_iterations"] = most;
+  state.counters["k11_cell2"] = r.permeability[0][0] / (double(n) * n);
+}
+BENCHMARK(BM_PermeabilityMultigridCycle)
+    ->ArgsProduct({{32, 64}, {1, 2, 3}, {1, 2}})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// One preconditioner application with the multigrid velocity block (three W-cycles).
+void BM_StokesMultigrid(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto s = gyroid(n);
+  const StokesOperator op(n, s);
+  const StokesPreconditioner pre(op, automatic_sigma(n, s), VelocityPreconditioner::multigrid);
+  const Vec r = random_vec(op.size());
+  Vec z(op.size());
+  for (auto _ : state) {
+    pre.apply(r.data(), z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(op.cells()));
+}
+BENCHMARK(BM_StokesMultigrid)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
 // Exact flows (docs/properties.md, "Validation"): kind 0 the slit y in [0.2718 n, 0.7281 n]
 // (k = phi w^2 / 12), kind 1 the tube of radius 0.3 n around (n/2 + 0.1, n/2 - 0.23) along z

@@ -389,9 +389,11 @@ def properties(
     ``grid_check`` adds ``*_error`` keys from N/2. Flow (in ``only`` by default):
     ``permeability`` (cell_size^2; ``permeability_m2`` when ``units`` is physical),
     ``hydraulic_tortuosity``, ``specific_surface``, ``kozeny_carman_constant``,
-    ``wall_shear_stress``; with ``flow_rate`` (mL/min through ``flow_area`` in units^2) or
-    ``velocity`` (mm/s) and ``viscosity`` (mPa s, water at 37 C by default) also
-    ``wall_shear_stress_mpa`` and ``pressure_drop_pa_per_m``.
+    ``wall_shear_stress`` (flow along z), ``wall_shear_stress_per_axis`` and
+    ``wall_shear_stress_axis_mean`` (flow along x, y, z and their mean); with ``flow_rate``
+    (mL/min through ``flow_area`` in units^2) or ``velocity`` (mm/s) and ``viscosity`` (mPa s,
+    water at 37 C by default) also ``wall_shear_stress_mpa`` (and its ``_per_axis``,
+    ``_axis_mean``), ``pressure_drop_pa_per_m`` and ``pressure_drop_pa_per_m_per_axis``.
     """
     options: Dict[str, Any] = {"solid": solid, "phase": phase, "porosity": porosity,
                                "thickness": thickness, "compare_nodal": compare_nodal,

@@ -178,10 +178,17 @@ namespace {
 struct Point {
   double rho, value, error;  // error NaN: none
 };
+// Permeability against porosity, with the specific surface S (per cell size) that the
+// Kozeny-Carman line needs (NaN: none).
+struct FlowPoint {
+  double porosity, k, error, surface;
+};
 struct Series {
   std::string surface, solid, part;  // part: cmc or nodal
   double poisson_ratio = 0.3;
   std::vector<Point> youngs, conductivity;
+  std::vector<FlowPoint> flow;
+  double kozeny_carman = NAN;  // the fitted c of k = eps^3 / (c S^2)
 };
 
 double number_or_nan(const nlohmann::json& j, const std::string& key) {
@@ -208,6 +215,49 @@ const Rgb kFamilyColors[] = {{0.12f, 0.38f, 0.72f}, {0.80f, 0.33f, 0.10f}, {0.13
                              {0.55f, 0.25f, 0.65f}, {0.72f, 0.60f, 0.05f}, {0.10f, 0.60f, 0.65f},
                              {0.85f, 0.20f, 0.45f}, {0.40f, 0.40f, 0.42f}};
 
+// A log-log panel: pixel box [x0, x1] x [y0, y1] over the ranges [x_lo, x_hi], [y_lo, y_hi].
+struct LogFrame {
+  int x0, x1, y0, y1;
+  double x_lo, x_hi, y_lo, y_hi;
+  double sx(double v) const { return x0 + (x1 - x0) * std::log(v / x_lo) / std::log(x_hi / x_lo); }
+  double sy(double v) const {
+    const double l = std::clamp(std::log(std::max(v, 1e-300) / y_lo), -1.0,
+                                std::log(y_hi / y_lo) + 1.0);
+    return y1 - (y1 - y0) * l / std::log(y_hi / y_lo);
+  }
+};
+
+// The panel's grid, ticks, frame and axis labels.
+void draw_frame(Image& img, const LogFrame& f, const std::string& x_label,
+                const std::string& y_label) {
+  for (double t : log_ticks(f.x_lo, f.x_hi)) {
+    const int x = int(std::lround(f.sx(t)));
+    img.fill_rect(x, f.y0, 1, f.y1 - f.y0, kGrid);
+    img.fill_rect(x, f.y1, 1, 6, kInk);
+    draw_text(img, x, f.y1 + 22, 13, fmt::format("{:g}", t), kInk, Align::kCenter);
+  }
+  for (double t : log_ticks(f.y_lo, f.y_hi)) {
+    const int y = int(std::lround(f.sy(t)));
+    img.fill_rect(f.x0, y, f.x1 - f.x0, 1, kGrid);
+    img.fill_rect(f.x0 - 6, y, 6, 1, kInk);
+    draw_text(img, f.x0 - 9, y + 5, 13, fmt::format("{:g}", t), kInk, Align::kRight);
+  }
+  img.fill_rect(f.x0, f.y0, 1, f.y1 - f.y0 + 1, kInk);
+  img.fill_rect(f.x0, f.y1, f.x1 - f.x0 + 1, 1, kInk);
+  img.fill_rect(f.x0, f.y0, f.x1 - f.x0 + 1, 1, kGreyInk);
+  img.fill_rect(f.x1, f.y0, 1, f.y1 - f.y0 + 1, kGreyInk);
+  draw_text(img, (f.x0 + f.x1) / 2, f.y1 + 46, 15, x_label, kInk, Align::kCenter);
+  draw_text(img, f.x0, f.y0 - 8, 15, y_label, kInk);
+}
+
+// A vertical error bar of +-error around v at x.
+void draw_error_bar(Image& img, const LogFrame& f, double x, double v, double error, Rgb c) {
+  const double ya = f.sy(v + error), yb = f.sy(std::max(v - error, f.y_lo));
+  draw_line(img, x, ya, x, yb, c);
+  draw_line(img, x - 4, ya, x + 4, ya, c);
+  draw_line(img, x - 4, yb, x + 4, yb, c);
+}
+
 std::string fit_text(const nlohmann::json& f) {
   if (!f.value("valid", false)) return "no fit (one density)";
   return fmt::format("{:.3g} ρ^{:.3g}", f["coefficient"].get<double>(),
@@ -226,7 +276,7 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
                        const std::string& part) -> Series& {
     for (Series& s : series)
       if (s.surface == surface && s.solid == solid && s.part == part) return s;
-    series.push_back({surface, solid, part, 0.3, {}, {}});
+    series.push_back({surface, solid, part, 0.3, {}, {}, {}, NAN});
     return series.back();
   };
   for (const nlohmann::json& r : reports) {
@@ -251,6 +301,10 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
         if (std::isfinite(k))
           s.conductivity.push_back(
               {rho, k, number_or_nan(point, prefix + "conductivity_solid_error")});
+        const double perm = number_or_nan(point, prefix + "permeability");
+        if (perm > 0.0)
+          s.flow.push_back({1.0 - rho, perm, number_or_nan(point, prefix + "permeability_error"),
+                            number_or_nan(point, prefix + "specific_surface")});
       }
   }
   if (series.empty()) return out;
@@ -258,6 +312,9 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
     for (auto* pts : {&s.youngs, &s.conductivity})
       std::sort(pts->begin(), pts->end(),
                 [](const Point& a, const Point& b) { return a.rho < b.rho; });
+  for (Series& s : series)
+    std::sort(s.flow.begin(), s.flow.end(),
+              [](const FlowPoint& a, const FlowPoint& b) { return a.porosity < b.porosity; });
 
   // The fits (Gibson-Ashby: y = C rho^n).
   std::map<std::tuple<std::string, std::string, std::string, std::string>, nlohmann::json> fit_of;
@@ -278,6 +335,32 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
       fit_of[{s.surface, s.solid, s.part, quantity}] = j;
       out.fits.push_back(j);
     }
+  // Kozeny-Carman, k = eps^3 / (c S^2) (S per cell volume), per family and part: the c whose
+  // line fits log k best is the geometric mean of the members' eps^3 / (k S^2).
+  bool any_flow = false;
+  for (Series& s : series) {
+    if (s.flow.empty()) continue;
+    any_flow = true;
+    std::vector<double> log_c;
+    for (const FlowPoint& q : s.flow)
+      if (q.surface > 0.0) log_c.push_back(std::log(std::pow(q.porosity, 3) /
+                                                    (q.k * q.surface * q.surface)));
+    nlohmann::json j = {{"surface", s.surface},
+                        {"solid", s.solid},
+                        {"part", s.part},
+                        {"quantity", "kozeny_carman_constant"},
+                        {"points", log_c.size()},
+                        {"valid", !log_c.empty()}};
+    if (!log_c.empty()) {
+      double mean = 0.0, rms = 0.0;
+      for (double v : log_c) mean += v / double(log_c.size());
+      for (double v : log_c) rms += (v - mean) * (v - mean) / double(log_c.size());
+      s.kozeny_carman = std::exp(mean);
+      j["coefficient"] = s.kozeny_carman;
+      j["rms_log_residual"] = std::sqrt(rms);
+    }
+    out.fits.push_back(j);
+  }
 
   // The x range: every density, with a margin; the bound is drawn over it.
   double x_lo = INFINITY, x_hi = 0.0;
@@ -301,14 +384,17 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
   for (const Series& s : series) any_nodal = any_nodal || s.part == "nodal";
 
   const int plot_w = 470, plot_h = 400, left = 78, gap = 110, top = 84;
+  const int panels = any_flow ? 3 : 2;
   const int legend_rows = int(groups.size()) * (any_nodal ? 2 : 1) + 1;
-  const int width = 2 * (left + plot_w) + gap - left + 30 + 24;
+  const int width = 24 + left + (panels - 1) * (plot_w + gap) + plot_w + 30;
   const int height = top + plot_h + 70 + 22 * legend_rows + 20;
   Image img(width, height);
   draw_text(img, width / 2, 32, 18, title, kInk, Align::kCenter);
   draw_text(img, width / 2, 58, 14,
-            "log-log; solid lines: CMC; dashed: nodal; dotted: Hashin-Shtrikman upper bound; "
-            "bars: grid-check error",
+            any_flow ? "log-log; solid lines: CMC; dashed: nodal; dotted: Hashin-Shtrikman upper "
+                       "bound, Kozeny-Carman (k); bars: grid-check error"
+                     : "log-log; solid lines: CMC; dashed: nodal; dotted: Hashin-Shtrikman "
+                       "upper bound; bars: grid-check error",
             kGreyInk, Align::kCenter);
 
   const double nu = series.front().poisson_ratio;
@@ -331,33 +417,11 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
     if (!std::isfinite(y_lo)) y_lo = bound(x_lo);
     y_lo /= 1.4;
     y_hi *= 1.3;
-    auto sx = [&](double rho) {
-      return x0 + (x1 - x0) * std::log(rho / x_lo) / std::log(x_hi / x_lo);
-    };
-    auto sy = [&](double v) {
-      const double l = std::clamp(std::log(std::max(v, 1e-300) / y_lo), -1.0,
-                                  std::log(y_hi / y_lo) + 1.0);
-      return y1 - (y1 - y0) * l / std::log(y_hi / y_lo);
-    };
-    for (double t : log_ticks(x_lo, x_hi)) {
-      const int x = int(std::lround(sx(t)));
-      img.fill_rect(x, y0, 1, y1 - y0, kGrid);
-      img.fill_rect(x, y1, 1, 6, kInk);
-      draw_text(img, x, y1 + 22, 13, fmt::format("{:g}", t), kInk, Align::kCenter);
-    }
-    for (double t : log_ticks(y_lo, y_hi)) {
-      const int y = int(std::lround(sy(t)));
-      img.fill_rect(x0, y, x1 - x0, 1, kGrid);
-      img.fill_rect(x0 - 6, y, 6, 1, kInk);
-      draw_text(img, x0 - 9, y + 5, 13, fmt::format("{:g}", t), kInk, Align::kRight);
-    }
-    img.fill_rect(x0, y0, 1, y1 - y0 + 1, kInk);
-    img.fill_rect(x0, y1, x1 - x0 + 1, 1, kInk);
-    img.fill_rect(x0, y0, x1 - x0 + 1, 1, kGreyInk);
-    img.fill_rect(x1, y0, 1, y1 - y0 + 1, kGreyInk);
-    draw_text(img, (x0 + x1) / 2, y1 + 46, 15, "relative density ρ", kInk, Align::kCenter);
-    draw_text(img, x0, y0 - 8, 15,
-              youngs ? "E / E_s (mean of x, y, z)" : "k_solid / k_s (mean diagonal)", kInk);
+    const LogFrame f{x0, x1, y0, y1, x_lo, x_hi, y_lo, y_hi};
+    auto sx = [&](double rho) { return f.sx(rho); };
+    auto sy = [&](double v) { return f.sy(v); };
+    draw_frame(img, f, "relative density ρ",
+               youngs ? "E / E_s (mean of x, y, z)" : "k_solid / k_s (mean diagonal)");
     // The bound, dotted.
     double phase = 0.0;
     for (int i = 0; i < 80; ++i) {
@@ -379,10 +443,7 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
         if (!(q.value > 0)) continue;
         const double x = sx(q.rho), y = sy(q.value);
         if (std::isfinite(q.error) && q.error > 0) {
-          const double ya = sy(q.value + q.error), yb = sy(std::max(q.value - q.error, y_lo));
-          draw_line(img, x, ya, x, yb, c);
-          draw_line(img, x - 4, ya, x + 4, ya, c);
-          draw_line(img, x - 4, yb, x + 4, yb, c);
+          draw_error_bar(img, f, x, q.value, q.error, c);
           out.error_bars.push_back({{"surface", s.surface},
                                     {"solid", s.solid},
                                     {"part", s.part},
@@ -392,6 +453,66 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
                                     {"error", q.error}});
         }
         draw_disc(img, x, y, 3.5, c, !dashed);
+      }
+    }
+  }
+  // Permeability (mean diagonal, cell-size^2) against porosity, with each series'
+  // Kozeny-Carman line through its members' specific surfaces, dotted.
+  if (any_flow) {
+    const int x0 = 24 + left + 2 * (plot_w + gap), x1 = x0 + plot_w, y0 = top, y1 = top + plot_h;
+    double p_lo = INFINITY, p_hi = 0.0, y_lo = INFINITY, y_hi = 0.0;
+    for (const Series& s : series)
+      for (const FlowPoint& q : s.flow) {
+        p_lo = std::min(p_lo, q.porosity);
+        p_hi = std::max(p_hi, q.porosity);
+        const double e = std::isfinite(q.error) ? q.error : 0.0;
+        y_lo = std::min(y_lo, q.k - e > 0 ? q.k - e : q.k);
+        y_hi = std::max(y_hi, q.k + e);
+        if (q.surface > 0.0 && std::isfinite(s.kozeny_carman)) {
+          const double kc = std::pow(q.porosity, 3) / (s.kozeny_carman * q.surface * q.surface);
+          y_lo = std::min(y_lo, kc);
+          y_hi = std::max(y_hi, kc);
+        }
+      }
+    p_lo /= 1.1;
+    p_hi = std::min(1.0, p_hi * 1.05);
+    if (!(p_hi > p_lo * 1.2)) p_lo = p_hi / 1.2;
+    y_lo /= 1.4;
+    y_hi *= 1.3;
+    if (!(y_hi > y_lo * 10)) y_lo = y_hi / 10;
+    const LogFrame f{x0, x1, y0, y1, p_lo, p_hi, y_lo, y_hi};
+    draw_frame(img, f, "porosity ε = 1 - ρ", "k / cell size² (mean diagonal)");
+    for (const Series& s : series) {
+      const Rgb c = color_of(s);
+      const bool dashed = s.part == "nodal";
+      double phase = 0.0, kc_phase = 0.0;
+      for (std::size_t i = 0; i < s.flow.size(); ++i) {
+        const FlowPoint& q = s.flow[i];
+        const double x = f.sx(q.porosity);
+        if (i > 0) {
+          const FlowPoint& a = s.flow[i - 1];
+          draw_line(img, f.sx(a.porosity), f.sy(a.k), x, f.sy(q.k), c, dashed ? 9.0 : 0.0,
+                    dashed ? 6.0 : 0.0, &phase, dashed ? 1.0f : 1.4f);
+          if (a.surface > 0.0 && q.surface > 0.0 && std::isfinite(s.kozeny_carman) &&
+              s.part == "cmc") {
+            auto kc = [&](const FlowPoint& p) {
+              return std::pow(p.porosity, 3) / (s.kozeny_carman * p.surface * p.surface);
+            };
+            draw_line(img, f.sx(a.porosity), f.sy(kc(a)), x, f.sy(kc(q)), c, 2.0, 4.0,
+                      &kc_phase);
+          }
+        }
+        if (std::isfinite(q.error) && q.error > 0) {
+          draw_error_bar(img, f, x, q.k, q.error, c);
+          out.error_bars.push_back({{"surface", s.surface},
+                                    {"solid", s.solid},
+                                    {"part", s.part},
+                                    {"quantity", "permeability"},
+                                    {"porosity", q.porosity},
+                                    {"value", q.k},
+                                    {"error", q.error}});
+        }
+        draw_disc(img, x, f.sy(q.k), 3.5, c, !dashed);
       }
     }
   }
@@ -405,10 +526,13 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
               s.part == "nodal" ? 6.0 : 0.0, &phase);
     draw_disc(img, x + 17, y - 5, 3.5, c, s.part != "nodal");
     draw_text(img, int(x) + 44, y, 14,
-              fmt::format("{} {} {}:  E / E_s = {}   k / k_s = {}", s.surface, s.solid,
+              fmt::format("{} {} {}:  E / E_s = {}   k / k_s = {}{}", s.surface, s.solid,
                           s.part == "cmc" ? "CMC" : "nodal",
                           fit_text(fit_of[{s.surface, s.solid, s.part, "youngs_modulus"}]),
-                          fit_text(fit_of[{s.surface, s.solid, s.part, "conductivity_solid"}])),
+                          fit_text(fit_of[{s.surface, s.solid, s.part, "conductivity_solid"}]),
+                          std::isfinite(s.kozeny_carman)
+                              ? fmt::format("   Kozeny-Carman c = {:.3g}", s.kozeny_carman)
+                              : std::string()),
               kInk);
     y += 22;
   }
@@ -417,8 +541,11 @@ PropertiesChart properties_chart(const std::vector<nlohmann::json>& reports,
     draw_line(img, 30, y - 5, 64, y - 5, kBound, 2.0, 4.0, &phase);
     draw_text(img, 74, y, 14,
               fmt::format("Hashin-Shtrikman upper bound (ν_s = {:g}); fits: least squares of "
-                          "log y on log ρ (Gibson-Ashby C ρ^n)",
-                          nu),
+                          "log y on log ρ (Gibson-Ashby C ρ^n){}",
+                          nu,
+                          any_flow ? "; Kozeny-Carman k = ε³ / (c S²), S per cell volume "
+                                     "(c: geometric mean over the members)"
+                                   : ""),
               kInk);
   }
   out.image = std::move(img);

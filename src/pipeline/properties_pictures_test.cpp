@@ -118,5 +118,57 @@ TEST(PropertiesPictures, ChartDrawsARampPerPorosity) {
   EXPECT_EQ(chart.error_bars.size(), 3u);
 }
 
+// With permeabilities the chart gains the k-porosity panel (a third panel: wider) and each
+// family and part a Kozeny-Carman constant: members on k = eps^3 / (c S^2) with the specific
+// surface varying return that c to 1e-12, a scatter of e^(+-0.1) about it the geometric mean,
+// and a bar per member carrying permeability_error.
+TEST(PropertiesPictures, ChartFitsKozenyCarmanPerFamily) {
+  std::vector<nlohmann::json> reports;
+  const double scatter[] = {std::exp(0.1), std::exp(-0.1), 1.0};
+  int i = 0;
+  for (double rho : {0.1, 0.3, 0.5}) {
+    const double eps = 1 - rho, surface = 2.0 + 3.0 * rho, c_cmc = 5.0, c_nodal = 7.0;
+    reports.push_back({{"surface", "G"},
+                       {"properties", {{"solid", "network"}}},
+                       {"properties_relative_density", rho},
+                       {"properties_youngs_modulus", 0.5 * rho * rho},
+                       {"properties_permeability", std::pow(eps, 3) / (c_cmc * surface * surface)},
+                       {"properties_permeability_error", 1e-4},
+                       {"properties_specific_surface", surface},
+                       {"properties_nodal_relative_density", rho},
+                       {"properties_nodal_permeability",
+                        scatter[i++] * std::pow(eps, 3) / (c_nodal * surface * surface)},
+                       {"properties_nodal_specific_surface", surface}});
+  }
+  const PropertiesChart chart = properties_chart(reports, "flow");
+  const PropertiesChart without = properties_chart(
+      {nlohmann::json{{"surface", "G"},
+                      {"properties", {{"solid", "network"}}},
+                      {"properties_relative_density", 0.3},
+                      {"properties_youngs_modulus", 0.05}}},
+      "no flow");
+  EXPECT_GT(chart.image.width, without.image.width + 400);
+  int kc = 0;
+  for (const auto& f : chart.fits) {
+    if (f["quantity"] != "kozeny_carman_constant") continue;
+    ++kc;
+    ASSERT_TRUE(f["valid"].get<bool>());
+    EXPECT_EQ(f["points"], 3);
+    const bool cmc = f["part"] == "cmc";
+    EXPECT_NEAR(f["coefficient"].get<double>(), cmc ? 5.0 : 7.0, 1e-12);
+    // log c of the members: 0, -0.1, +0.1 about log 7 (k up by e^0.1 is c down by it).
+    EXPECT_NEAR(f["rms_log_residual"].get<double>(), cmc ? 0.0 : std::sqrt(0.02 / 3), 1e-12);
+  }
+  EXPECT_EQ(kc, 2);
+  int bars = 0;
+  for (const auto& b : chart.error_bars)
+    if (b["quantity"] == "permeability") {
+      ++bars;
+      EXPECT_EQ(b["part"], "cmc");
+      EXPECT_EQ(b["error"], 1e-4);
+    }
+  EXPECT_EQ(bars, 3);
+}
+
 }  // namespace
 }  // namespace cmcsurf

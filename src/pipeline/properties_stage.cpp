@@ -74,30 +74,74 @@ void add_flow_keys(nlohmann::json& j, const CellProperties& p, const PropertiesR
   j["kozeny_carman_constant"] = p.kozeny_carman_constant;
   j["closed_pore_fraction"] = p.flow.closed_pore_fraction;
   j["flow_percolates"] = p.flow.percolates;
-  // tau in solver units (mu = 1, unit gradient, h = 1) times mu U / (k_zz h): with L = n h,
-  // tau L / (mu U) = tau_solver n / k_zz,solver.
-  const double kzz = p.flow.permeability[2][2];
-  const WallShearStats& w = p.wall_shear;
-  if (kzz > 0.0 && w.wall_area > 0.0) {
-    const double to_normalised = double(p.n) / kzz;
-    nlohmann::json tau = {{"axis", "z"},
-                          {"normalisation", "mu U / L (U superficial velocity, L cell size)"},
-                          {"mean", w.mean * to_normalised},
+  // tau in solver units (mu = 1, unit gradient, h = 1) times mu U / (k_aa h) for the flow
+  // along a: with L = n h, tau L / (mu U) = tau_solver n / k_aa,solver.
+  const double u = superficial_velocity(r);
+  const bool given_flow = std::isfinite(u) && std::isfinite(cell_m);
+  const double to_mpa = r.viscosity_mpa_s * 1e-3 * u / cell_m * 1e3;  // mPa per mu U / L
+  const char* stats[] = {"mean", "median", "p5", "p95", "max"};
+  const char* axis_name[] = {"x", "y", "z"};
+  auto normalised = [&](int a) {
+    const WallShearStats& w = p.wall_shear_axes[a];
+    const double to_normalised = double(p.n) / p.flow.permeability[a][a];
+    return nlohmann::json{{"mean", w.mean * to_normalised},
                           {"median", w.median * to_normalised},
                           {"p5", w.p5 * to_normalised},
                           {"p95", w.p95 * to_normalised},
                           {"max", w.max * to_normalised},
                           {"histogram", w.histogram}};
+  };
+  auto in_mpa = [&](const nlohmann::json& tau) {
+    nlohmann::json mpa = {{"superficial_velocity_m_s", u}};
+    for (const char* key : stats) mpa[key] = tau[key].get<double>() * to_mpa;
+    if (tau.contains("histogram")) mpa["histogram"] = tau["histogram"];
+    return mpa;
+  };
+  // Per axis with flow, and the statistics' means over those axes (a cubic cell's three agree).
+  nlohmann::json per_axis = nlohmann::json::object(), per_axis_mpa = nlohmann::json::object();
+  nlohmann::json axis_mean = nlohmann::json::object();
+  nlohmann::json drop = nlohmann::json::array();
+  int axes = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double kaa = p.flow.permeability[a][a];
+    if (!(kaa > 0.0 && p.wall_shear_axes[a].wall_area > 0.0)) {
+      drop.push_back(nullptr);
+      continue;
+    }
+    const nlohmann::json tau = normalised(a);
+    per_axis[axis_name[a]] = tau;
+    for (const char* key : stats)
+      axis_mean[key] = axis_mean.value(key, 0.0) + tau[key].get<double>();
+    if (given_flow) per_axis_mpa[axis_name[a]] = in_mpa(tau);
+    // Darcy: dP/dx_a = mu U / k_aa.
+    drop.push_back(given_flow ? nlohmann::json(r.viscosity_mpa_s * 1e-3 * u /
+                                               (k[a][a] * cell_m * cell_m))
+                              : nlohmann::json(nullptr));
+    ++axes;
+  }
+  if (axes > 0) {
+    for (const char* key : stats) axis_mean[key] = axis_mean[key].get<double>() / axes;
+    axis_mean["axes"] = axes;
+    j["wall_shear_stress_per_axis"] = per_axis;
+    j["wall_shear_stress_axis_mean"] = axis_mean;
+    if (given_flow) {
+      j["wall_shear_stress_mpa_per_axis"] = per_axis_mpa;
+      nlohmann::json mean_mpa = in_mpa(axis_mean);
+      mean_mpa["axes"] = axes;
+      j["wall_shear_stress_mpa_axis_mean"] = mean_mpa;
+      j["pressure_drop_pa_per_m_per_axis"] = drop;
+    }
+  }
+  // The flow along z alone: the earlier keys, kept for users' scripts.
+  if (k[2][2] > 0.0 && p.wall_shear.wall_area > 0.0) {
+    nlohmann::json tau = normalised(2);
+    tau["axis"] = "z";
+    tau["normalisation"] = "mu U / L (U superficial velocity, L cell size)";
     j["wall_shear_stress"] = tau;
-    const double u = superficial_velocity(r);
-    if (std::isfinite(u) && std::isfinite(cell_m)) {
-      const double scale = r.viscosity_mpa_s * 1e-3 * u / cell_m * 1e3;  // mPa per unit
-      nlohmann::json mpa = {{"axis", "z"}, {"superficial_velocity_m_s", u}};
-      for (const char* key : {"mean", "median", "p5", "p95", "max"})
-        mpa[key] = tau[key].get<double>() * scale;
-      mpa["histogram"] = w.histogram;
+    if (given_flow) {
+      nlohmann::json mpa = in_mpa(tau);
+      mpa["axis"] = "z";
       j["wall_shear_stress_mpa"] = mpa;
-      // Darcy: dP/dz = mu U / k_zz.
       j["pressure_drop_pa_per_m"] = r.viscosity_mpa_s * 1e-3 * u / (k[2][2] * cell_m * cell_m);
     }
   }
@@ -425,6 +469,13 @@ void add_summary(nlohmann::json& out, const nlohmann::json& p, const std::string
     const std::string error = std::string(key) + "_error";
     if (p.contains(error)) out[prefix + error] = p[error];
   }
+  // The flow's scalars for the chart's Kozeny-Carman line and the sweep's columns: S per cell
+  // size, c, and the mean wall shear stress (mu U / L) averaged over the axes with flow.
+  if (p.contains("permeability"))
+    for (const char* key : {"specific_surface", "kozeny_carman_constant"})
+      if (p.contains(key)) out[prefix + key] = p[key];
+  if (p.contains("wall_shear_stress_axis_mean"))
+    out[prefix + "wall_shear_stress"] = p["wall_shear_stress_axis_mean"]["mean"];
 }
 
 }  // namespace

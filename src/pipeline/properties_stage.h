@@ -69,7 +69,9 @@ nlohmann::json compute_properties(const Field& phi, const PropertiesRequest& r,
 // ..._poisson_ratio, ..._bulk_modulus, ..._zener_ratio, ..._conductivity_solid and
 // ..._conductivity_pore (mean diagonals), ..._tortuosity_pore (mean), ..._permeability (mean
 // diagonal, cell-size^2), ..._hydraulic_tortuosity (mean), with their *_error when
-// grid-checked, and the same of the nodal twin as properties_nodal_*.
+// grid-checked, ..._specific_surface (per cell size), ..._kozeny_carman_constant and
+// ..._wall_shear_stress (mean over the walls and the axes, mu U / L) with flow, and the same of
+// the nodal twin as properties_nodal_*.
 nlohmann::json properties_summary(const nlohmann::json& properties);
 
 // The --properties stage of `run` and `sweep` (and Python's run/sweep) as the user asks for it;

@@ -250,8 +250,9 @@ CellProperties compute_cell_properties(int n, const std::vector<double>& s,
     try {
       p.flow = compute_permeability(n, s, o.flow_solver,
                                     [&](int axis, const StokesOperator& op, const double* x) {
-                                      if (axis == 2) p.wall_shear = wall_shear_statistics(op, x);
+                                      p.wall_shear_axes[axis] = wall_shear_statistics(op, x);
                                     });
+      p.wall_shear = p.wall_shear_axes[2];
     } catch (const std::invalid_argument& e) {  // no solid face: nothing holds the flow back
       p.warnings.push_back(std::string("flow not computed: ") + e.what());
     }

@@ -73,9 +73,11 @@ struct CellProperties {
          conductivity_pore_fraction_of_bound = 0.0;
   std::array<bool, 3> solid_percolates{}, pore_percolates{};
   // With flow: permeability (voxel^2) and the rest of FlowResult, the wall shear stress of
-  // the flow along z (solver units, stokes_flow.h), the specific surface (voxel^-1) and the
+  // the flow along x, y, z (solver units, stokes_flow.h; empty for an axis without flow) and
+  // along z alone (wall_shear, the earlier key), the specific surface (voxel^-1) and the
   // Kozeny-Carman constant c = porosity^3 / (k S^2), k the mean diagonal (0 without flow).
   FlowResult flow;
+  std::array<WallShearStats, 3> wall_shear_axes{};
   WallShearStats wall_shear;
   double specific_surface = 0.0;
   double kozeny_carman_constant = 0.0;

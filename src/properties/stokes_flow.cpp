@@ -206,7 +206,7 @@ FlowResult compute_permeability(int n, const std::vector<double>& s, const FlowO
   res.percolates = perc.percolates;
   res.closed_pore_fraction = perc.closed_pore_fraction;
   res.sigma = o.sigma > 0.0 ? o.sigma : automatic_sigma(n, s);
-  StokesPreconditioner pre(op, res.sigma);
+  StokesPreconditioner pre(op, res.sigma, o.velocity_preconditioner, o.multigrid);
   Vec x(size), v_prev(size), v(size), z(size), w_prev(size), w(size);
   res.bytes = 6 * size * sizeof(double) + op.bytes() + pre.bytes();
   const CgOptions cg{o.tolerance, 1e-14 * std::sqrt(double(m)), o.max_iterations};

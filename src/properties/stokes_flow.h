@@ -18,6 +18,7 @@
 
 #include "properties/homogenize.h"  // LoadCaseStats, Matrix3, Vector3
 #include "properties/stokes_operator.h"
+#include "properties/stokes_preconditioner.h"  // VelocityPreconditioner
 
 namespace cmcsurf::properties {
 
@@ -31,6 +32,10 @@ struct FlowOptions {
   // Dirichlet eigenvalue of a channel of the pore space's hydraulic width w = 2 phi / S,
   // (pi / w)^2 (S the specific surface per voxel, phi the porosity), within [1e-4, 1].
   double sigma = 0.0;
+  // The velocity block of the preconditioner: multigrid (iterations about constant in n) or
+  // the earlier FFT Laplacian (iterations ~n^0.6), kept to compare (docs/properties.md).
+  VelocityPreconditioner velocity_preconditioner = VelocityPreconditioner::multigrid;
+  VelocityMultigridOptions multigrid;  // its cycle
 };
 
 struct FlowResult {

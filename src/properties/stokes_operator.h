@@ -52,6 +52,9 @@ class StokesOperator {
   std::size_t fluid_faces() const { return fluid_faces_; }
   // The diagonal of A / mu on each face (0 on solid faces): 6 for an interior fluid face.
   const std::vector<float>& velocity_diagonal() const { return diag_; }
+  // Per face (c * cells() + q): bit d set when the neighbour in link direction d (-x, +x, -y,
+  // +y, -z, +z) is fluid; the off-diagonal of A / mu is -1 there.
+  const std::vector<std::uint8_t>& face_links() const { return links_; }
   // Distance (link lengths) from fluid face q of component c to the wall in direction d
   // (axis d / 2, sign - for even d); 0 when the neighbour is fluid.
   double wall_theta(int c, std::size_t q, int d) const;

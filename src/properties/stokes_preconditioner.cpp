@@ -24,7 +24,9 @@ struct StokesFftPlans {
   }
 };
 
-StokesPreconditioner::StokesPreconditioner(const StokesOperator& op, double sigma)
+StokesPreconditioner::StokesPreconditioner(const StokesOperator& op, double sigma,
+                                           VelocityPreconditioner velocity,
+                                           const VelocityMultigridOptions& multigrid)
     : op_(op), sigma_(sigma), pressure_weight_(op.cells()), cos_(op.n()),
       plans_(std::make_unique<StokesFftPlans>()) {
   if (!(sigma > 0.0)) throw std::invalid_argument("Stokes preconditioner: sigma must be > 0");
@@ -50,6 +52,10 @@ StokesPreconditioner::StokesPreconditioner(const StokesOperator& op, double sigm
           }
         pressure_weight_[q] = sum > 0.0 ? float(1.0 / (op.viscosity() * sum)) : 0.0f;
       }
+  if (velocity == VelocityPreconditioner::multigrid) {
+    multigrid_ = std::make_unique<VelocityMultigrid>(op, sigma, multigrid);
+    return;
+  }
   plans_->spectrum_size = std::size_t(n) * n * nh;
   plans_->spectrum = fftw_alloc_complex(plans_->spectrum_size);
   double* real = fftw_alloc_real(m);
@@ -71,7 +77,8 @@ StokesPreconditioner::StokesPreconditioner(const StokesOperator& op, double sigm
 StokesPreconditioner::~StokesPreconditioner() = default;
 
 std::size_t StokesPreconditioner::bytes() const {
-  return plans_->spectrum_size * sizeof(fftw_complex) + pressure_weight_.size() * sizeof(float);
+  return plans_->spectrum_size * sizeof(fftw_complex) + pressure_weight_.size() * sizeof(float) +
+         (multigrid_ ? multigrid_->bytes() : 0);
 }
 
 double StokesPreconditioner::scale(std::size_t q) const {
@@ -87,6 +94,13 @@ double StokesPreconditioner::symbol(int kx, int ky, int kz) const {
 void StokesPreconditioner::apply(const double* r, double* z) const {
   const int n = op_.n(), nh = n / 2 + 1;
   const std::size_t m = op_.cells();
+  const float* w = pressure_weight_.data();
+  if (multigrid_) {
+    multigrid_->apply(r, z);
+#pragma omp parallel for schedule(static)
+    for (std::size_t q = 0; q < m; ++q) z[3 * m + q] = w[q] * r[3 * m + q];
+    return;
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < 3 * m; ++q) z[q] = scale(q) * r[q];
   auto* v = reinterpret_cast<std::complex<double>*>(plans_->spectrum);
@@ -100,7 +114,6 @@ void StokesPreconditioner::apply(const double* r, double* z) const {
           v[(std::size_t(kz) * n + ky) * nh + kx] *= norm * symbol(kx, ky, kz);
     fftw_execute_dft_c2r(plans_->backward, plans_->spectrum, z + c * m);
   }
-  const float* w = pressure_weight_.data();
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < m; ++q) {
     for (int c = 0; c < 3; ++c) z[c * m + q] *= scale(c * m + q);
@@ -109,6 +122,7 @@ void StokesPreconditioner::apply(const double* r, double* z) const {
 }
 
 void StokesPreconditioner::apply_ref(const double* r, double* z) const {
+  CMCSURF_CHECK(!multigrid_);
   const int n = op_.n();
   const std::size_t m = op_.cells();
   std::vector<std::complex<double>> a(m), b(m);

@@ -77,6 +77,16 @@ assert abs(dp - 0.692e-3 * 1e-3 / (k * 4e-6)) <= 1e-9 * dp
 tau = p["wall_shear_stress_mpa"]
 assert 0 < tau["p5"] <= tau["median"] <= tau["p95"] <= tau["max"], tau
 assert abs(sum(tau["histogram"]) - 1) < 1e-9
+# The flow along each axis: z is the key above; the axes' mean is the mean of the three, which
+# agree for a cubic member (its relaxed field is cubic to the solver's tolerance).
+axes = p["wall_shear_stress_mpa_per_axis"]
+assert sorted(axes) == ["x", "y", "z"] and axes["z"]["mean"] == tau["mean"], axes
+mean = p["wall_shear_stress_mpa_axis_mean"]
+assert mean["axes"] == 3
+for key in ("mean", "median", "p95"):
+    assert abs(mean[key] - sum(axes[a][key] for a in "xyz") / 3) <= 1e-12 * mean[key], key
+    assert max(abs(axes[a][key] / mean[key] - 1) for a in "xyz") < 0.02, (key, axes)
+assert p["pressure_drop_pa_per_m_per_axis"][2] == dp
 PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
@@ -104,6 +114,15 @@ n = math.log(e_[1] / e_[0]) / math.log(rho[1] / rho[0])
 assert f["valid"] and f["points"] == 2 and abs(f["exponent"] - n) < 1e-8 * abs(n), (f, n)
 assert abs(f["coefficient"] - e_[0] / rho[0] ** n) < 1e-8 * f["coefficient"], f
 assert 1.2 < n < 3.0, n  # bending-dominated network: Gibson-Ashby's 2, ASLI's 1.71
+# The Kozeny-Carman constant of the chart: the geometric mean of the members' c, each
+# eps^3 / (k S^2) from their sweep.csv columns.
+(f,) = [f for f in chart["fits"]
+        if f["part"] == "cmc" and f["quantity"] == "kozeny_carman_constant"]
+c = [(1 - float(r["properties_relative_density"])) ** 3 / (float(r["properties_permeability"])
+     * float(r["properties_specific_surface"]) ** 2) for r in rows]
+for r, ci in zip(rows, c):
+    assert abs(ci / float(r["properties_kozeny_carman_constant"]) - 1) < 1e-9, (ci, r)
+assert abs(f["coefficient"] - math.exp(sum(map(math.log, c)) / 2)) < 1e-9 * f["coefficient"], f
 assert os.path.exists(os.path.join(os.path.dirname(sys.argv[2]), "youngs_modulus.png"))
 sweep = os.path.dirname(sys.argv[4])  # --no-preview: no member draws youngs_modulus.png
 assert not [m for m in os.listdir(sweep)

@@ -28,7 +28,7 @@ s, t, p, ramp_dir = sys.argv[1:5]
 rows = list(csv.DictReader(open(os.path.join(s, "sweep.csv"))))
 chart = json.load(open(os.path.join(s, "sweep.json")))["properties_chart"]
 bars = chart["error_bars"]
-assert len(rows) == 2 and len(bars) == 4, (len(rows), bars)  # 2 members x (E, k_solid)
+assert len(rows) == 2 and len(bars) == 6, (len(rows), bars)  # 2 members x (E, k_solid, k)
 for row in rows:
     report = json.load(open(os.path.join(s, row["member"], "report.json")))
     props = report["properties"]
@@ -41,6 +41,12 @@ for row in rows:
                   b["relative_density"] == report["properties_relative_density"]]
         assert bar["error"] == error and bar["value"] == report[f"properties_{q}"], (bar, error)
         assert bar["surface"] == "G" and bar["part"] == "cmc" and bar["solid"] == "network"
+    # The permeability panel's bar: at the porosity 1 - rho.
+    error = report["properties_permeability_error"]
+    assert 0 < error < 0.05 * report["properties_permeability"], error
+    (bar,) = [b for b in bars if b["quantity"] == "permeability" and
+              b["porosity"] == 1 - report["properties_relative_density"]]
+    assert bar["error"] == error and bar["value"] == report["properties_permeability"], bar
 # A sheet of the thickness asked for (in unit cells), its picture, its title; and at a porosity.
 tr = json.load(open(os.path.join(t, "report.json")))
 assert tr["properties"]["solid"] == "sheet" and abs(tr["properties"]["thickness"] - 0.12) < 1e-12
