@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -48,6 +50,33 @@ double steiner_thickness(double s, double area, double chi) {
     t -= g / (area + std::numbers::pi * chi / 2 * t * t);
   }
   return t;
+}
+
+// The design's solid on one unit cell: {transform(g) > level}, g the member (network) or the
+// signed distance to its surface (sheet, at the Steiner thickness of d.porosity).
+struct CellSolid {
+  Field distance;  // empty for a network
+  std::function<double(double)> transform = [](double v) { return v - 0.5; };
+  double level = 0.0;
+  nlohmann::json sheet;
+};
+
+CellSolid cell_solid(const Field& phi, const ScaffoldDesign& d) {
+  CellSolid cs;
+  if (d.solid != SolidKind::kSheet) return cs;
+  const nlohmann::json periodic = periodic_surface_json(phi);
+  const double area = periodic["area"].get<double>();
+  const double chi = periodic["euler_characteristic"].get<double>();
+  const double t = steiner_thickness(1.0 - d.porosity, area, chi);
+  if (!(t > 0.0 && t < 0.5))
+    throw std::invalid_argument(fmt::format(
+        "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
+        "walls thinner than half a cell", d.porosity, t));
+  cs.distance = signed_distance(phi, std::min(0.5, t + 4.0 / phi.n()));
+  cs.transform = [](double v) { return -std::abs(v); };
+  cs.level = -0.5 * t;
+  cs.sheet = {{"thickness_steiner", t * d.cell_size}};
+  return cs;
 }
 
 }  // namespace
@@ -230,9 +259,18 @@ nlohmann::json cell_morphometry(const Field& g, const std::function<double(doubl
   const ThicknessStats pores = thickness_stats(local_thickness(pore, m), pore, voxel);
   morph["wall_thickness"] = thickness_json(wall, d.units);
   morph["pore_size"] = thickness_json(pores, d.units);
+  std::array<double, 3> throat = throat_diameter(pore, m);
+  for (double& t : throat) t *= voxel;
+  morph["throat"] = {{"diameter", throat},
+                     {"min", *std::min_element(throat.begin(), throat.end())},
+                     {"units", d.units},
+                     {"note", "largest ball that passes through the pore space along x, y, z "
+                              "(the bottleneck of its distance map, periodic cell); 0: the "
+                              "pores do not percolate along that axis"}};
   morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
                     "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
-                    "Euclidean distance transform; diameters, within one voxel";
+                    "Euclidean distance transform; diameters, within one voxel; p5, p50, p95: "
+                    "percentiles over the phase's volume";
   morph["voxel"] = voxel;
   if (d.min_feature > 0) {
     morph["min_feature"] = d.min_feature;
@@ -268,26 +306,11 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
   auto t0 = std::chrono::steady_clock::now();
 
   // The field sampled on the box and the level of the solid {a > level}.
-  Field distance;
-  const Field* g = &phi;
-  std::function<double(double)> transform = [](double v) { return v - 0.5; };
-  double level = 0.0;
-  nlohmann::json sheet;
-  if (d.solid == SolidKind::kSheet) {
-    const nlohmann::json periodic = periodic_surface_json(phi);
-    const double area = periodic["area"].get<double>();
-    const double chi = periodic["euler_characteristic"].get<double>();
-    const double t = steiner_thickness(1.0 - d.porosity, area, chi);
-    if (!(t > 0.0 && t < 0.5))
-      throw std::invalid_argument(fmt::format(
-          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
-          "walls thinner than half a cell", d.porosity, t));
-    distance = signed_distance(phi, std::min(0.5, t + 4.0 / n));
-    g = &distance;
-    transform = [](double v) { return -std::abs(v); };
-    level = -0.5 * t;
-    sheet = {{"thickness_steiner", t * d.cell_size}};
-  }
+  CellSolid cs = cell_solid(phi, d);
+  const Field* g = cs.distance.n() > 0 ? &cs.distance : &phi;
+  const std::function<double(double)> transform = cs.transform;
+  const double level = cs.level;
+  nlohmann::json sheet = cs.sheet;
   const double field_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   nlohmann::json shape_report;
@@ -450,14 +473,31 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
   double morph_seconds = 0.0;
   t0 = std::chrono::steady_clock::now();
+  // --min-feature is checked once over the members (the thinnest wall and pore of any).
+  ScaffoldDesign each = d;
+  each.min_feature = 0.0;
+  std::vector<std::string> none;
   for (const GradedMember& m : members) {
     fractions.push_back(m.volume_fraction);
     if (d.morphometry) {
-      nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level, d,
-                                          out.warnings);
+      nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level,
+                                          each, none);
       c["porosity"] = 1.0 - m.volume_fraction;
       c.erase("method");
       cells.push_back(c);
+    }
+  }
+  if (d.morphometry && d.min_feature > 0 && !cells.empty()) {
+    for (const char* key : {"wall_thickness", "pore_size"}) {
+      const auto thinnest = std::min_element(cells.begin(), cells.end(), [&](auto& a, auto& b) {
+        return a[key]["min"].template get<double>() < b[key]["min"].template get<double>();
+      });
+      const double v = (*thinnest)[key]["min"].get<double>();
+      if (v < d.min_feature)
+        out.warnings.push_back(fmt::format(
+            "{} {:.4g} {} (member at porosity {:.2f}) is below --min-feature {}",
+            key == std::string("wall_thickness") ? "thinnest wall" : "narrowest pore", v,
+            d.units, (*thinnest)["porosity"].get<double>(), d.min_feature));
     }
   }
   morph_seconds = seconds_since(t0);
@@ -473,11 +513,21 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                   "lattice nodes outside the solid"}};
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
+  if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
   r["morphometry"] = morph;
   r["warnings"] = out.warnings;
   r["seconds"]["sample"] = sample_seconds;
   r["seconds"]["morphometry"] = morph_seconds;
   return out;
+}
+
+nlohmann::json design_cell_morphometry(const Field& phi, const ScaffoldDesign& d) {
+  const CellSolid cs = cell_solid(phi, d);
+  ScaffoldDesign quiet = d;
+  quiet.min_feature = 0.0;
+  std::vector<std::string> none;
+  return cell_morphometry(cs.distance.n() > 0 ? cs.distance : phi, cs.transform, cs.level, quiet,
+                          none);
 }
 
 }  // namespace cmcsurf

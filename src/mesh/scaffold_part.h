@@ -61,6 +61,12 @@ struct ShapeFill {
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
                              const ShapeFill* shape = nullptr);
 
+// The wall thickness, pore size and throat of the design's unit cell (design_scaffold's
+// `morphometry` keys, in d.units at d.cell_size) without building the part: a network is phase
+// 1 of phi, a sheet the wall of d.porosity's Steiner thickness (the part's solved one differs
+// by the box's trimming). Sizes scale with d.cell_size: what --pore-size solves with.
+nlohmann::json design_cell_morphometry(const Field& phi, const ScaffoldDesign& d);
+
 // A graded part (the paper's Fig. 2): the porosity ramps linearly from `from` at the low
 // end of the axis to `to` at the high end.
 struct PorosityRamp {
