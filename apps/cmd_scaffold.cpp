@@ -277,8 +277,6 @@ std::optional<Targets> plan_targets(const ScaffoldCommand& cmd, const ScaffoldDe
       throw UsageError(fmt::format("{} A:B: grades the porosity it solves; a graded cell size "
                                    "(a permeability ramp at a given porosity) is not done",
                                    option));
-    if (d.solid == SolidKind::kSheet)
-      throw UsageError(fmt::format("{} A:B: a graded part is a network solid", option));
     if (cmd.compare_nodal || cmd.properties || !cmd.shape.empty())
       throw UsageError(fmt::format("{} A:B: not with --compare-nodal, --properties or --shape "
                                    "(like --porosity A:B)", option));
@@ -340,12 +338,12 @@ int run_scaffold(ScaffoldCommand& cmd) {
   if (cmd.solid == "network") d.solid = SolidKind::kNetwork;
   else if (cmd.solid == "sheet") d.solid = SolidKind::kSheet;
   else throw UsageError(fmt::format("--solid: got '{}'; accepted: network|sheet", cmd.solid));
-  if (ramp && d.solid == SolidKind::kSheet)
-    throw UsageError("--porosity A:B: a graded part is a network solid; --solid sheet takes one "
-                     "porosity");
   if (cmd.graded_members != 0 && (cmd.graded_members < 2 || cmd.graded_members > 11))
     throw UsageError(
         fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
+  if (cmd.graded_members != 0 && d.solid == SolidKind::kSheet)
+    throw UsageError("--graded-members: a graded sheet grades its wall around one member; only "
+                     "for a network");
   if (cmd.compare_nodal && ramp)
     throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
   // The unit cell's properties (docs/properties.md): the request checked before any work.
@@ -510,7 +508,7 @@ int run_scaffold(ScaffoldCommand& cmd) {
   nlohmann::json member;
   Field phi;
   std::vector<GradedMember> members;
-  if (ramp) {
+  if (ramp && d.solid == SolidKind::kNetwork) {
     // Members at evenly spaced solid fractions from one end of the ramp to the other.
     const double a0 = 1.0 - std::max(ramp->from, ramp->to),
                  a1 = 1.0 - std::min(ramp->from, ramp->to);
@@ -537,8 +535,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
       seconds_since(t0);
   ScaffoldPart part;
   try {
-    part = ramp ? design_graded_scaffold(members, d, *ramp)
-                : design_scaffold(phi, d, shape ? &*shape : nullptr);
+    // A graded sheet grades the wall around the one balanced member.
+    part = !ramp                           ? design_scaffold(phi, d, shape ? &*shape : nullptr)
+           : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp)
+                                          : design_graded_scaffold(members, d, *ramp);
   } catch (const ClosedCellError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
@@ -603,7 +603,8 @@ int run_scaffold(ScaffoldCommand& cmd) {
           ? fmt::format("; thickness={:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
           : "");
   nlohmann::json members_about = {{"members", member}, {"seconds", member_seconds}};
-  if (!ramp) members_about = member, members_about["seconds"] = member_seconds;
+  if (!ramp || d.solid == SolidKind::kSheet)
+    members_about = member, members_about["seconds"] = member_seconds;
   write_mesh_with_report(part.mesh, part.report, plan,
                          {{"member", members_about}, {"threads", threads},
                           {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
@@ -764,7 +765,8 @@ CommandFn add_scaffold_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--porosity", cmd->porosity,
                   "Target porosity of the part: 1 - solid / box volume, in (0, 1); A:B ramps it "
-                  "linearly from A to B along --axis (network only); required unless "
+                  "linearly from A to B along --axis (a network's members are blended, a "
+                  "sheet's wall thickness graded); required unless "
                   "--target-modulus or --target-permeability solves it");
   app->add_option("--axis", cmd->axis, "Axis of a --porosity A:B ramp: x, y or z")
       ->capture_default_str();
@@ -824,11 +826,11 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_option("--target-modulus", cmd->target_modulus,
                   "Solve the porosity (a network's member, a sheet's wall) for this Young's "
                   "modulus of the unit cell in GPa (mean of x, y, z; needs --material); A:B "
-                  "grades it along --axis (network)");
+                  "grades it along --axis");
   app->add_option("--target-permeability", cmd->target_permeability,
                   "A permeability in m^2 (mean of x, y, z): solves the cell size when the "
                   "porosity is given or solved by --target-modulus, else the porosity; A:B "
-                  "grades the porosity along --axis (network)");
+                  "grades the porosity along --axis");
   app->add_option("--pore-size", cmd->pore_size,
                   "Solve the cell size for this mean pore diameter in --units at the porosity "
                   "asked (given or solved)");

@@ -83,4 +83,12 @@ struct PorosityRamp {
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp);
 
+// A graded sheet: the wall thickness ramps along the axis so that the porosity goes linearly
+// from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all
+// shifted by the part's level solve to meet the mean porosity). phi: the balanced member. The
+// report adds `graded` (the profile per cell), `sheet.thickness_from` and `_to`, and the end
+// cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold.
+ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
+                                 const PorosityRamp& ramp);
+
 }  // namespace cmcsurf

@@ -6,9 +6,8 @@
 # porosity and the modulus recomputed by `cmcsurf properties` on the written part's member is
 # within 5 % of the target; --pore-size 0.6 solves the cell size and the part's mean pore is
 # within 5 % of 0.6 mm; a modulus no sheet of the searched porosities reaches exits 1 naming the
-# range;
-# --strict-min-wall refuses a part whose thinnest wall is too thin, writing nothing; the
-# options' misuse exits 2 before any work.
+# range; a graded sheet follows its porosity ramp; --strict-min-wall refuses a part whose
+# thinnest wall is too thin, writing nothing; the options' misuse exits 2 before any work.
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
@@ -70,6 +69,23 @@ grep -q "reachable .* GPa (porosity 0.5 .. 0.9" "$work/soft.err" ||
   { echo "FAIL: no reachable range"; cat "$work/soft.err"; fail=1; }
 compgen -G "$work/soft.stl*" >/dev/null && { echo "FAIL: wrote soft.stl"; fail=1; }
 
+# A graded sheet (its one member cached above): the wall grades the porosity 0.8 -> 0.6 along z,
+# each cell's node porosity within 0.01 of the ramp, the mean within the sheet's 1e-4.
+"$bin" scaffold "${common[@]}" --solid sheet --porosity 0.8:0.6 --axis z --size 2x2x6 --quiet \
+  --out "$work/graded.stl" || { echo "FAIL: graded sheet"; fail=1; }
+python3 - "$work/graded.stl.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert abs(r["porosity"] - 0.7) < 1e-4, r["porosity"]
+prof = r["graded"]["profile"]
+assert len(prof) == 3, prof
+for b in prof:
+    assert abs(b["porosity_nodes"] - b["porosity_target"]) < 0.01, b
+assert prof[0]["porosity_nodes"] > prof[1]["porosity_nodes"] > prof[2]["porosity_nodes"], prof
+s = r["sheet"]
+assert s["thickness_from"] < s["thickness"] < s["thickness_to"], s
+PY
+
 # --strict-min-wall: the thinnest wall below 1 mm refuses the part (exit 1), writing nothing.
 "$bin" scaffold "${common[@]}" --porosity 0.7 --cell-size 2 --size 2 --min-wall 1 \
   --strict-min-wall --out "$work/thin.stl" 2>"$work/thin.err"
@@ -90,8 +106,8 @@ check_usage bad.stl --cell-size "${base[@]}" --porosity 0.7 --pore-size 0.6 --ce
 check_usage bad.stl --pore-size "${base[@]}" --porosity 0.7 --pore-size 0.6 \
   --target-permeability 1e-9
 check_usage bad.stl --strict-min-wall "${base[@]}" --porosity 0.7 --strict-min-wall
-check_usage bad.stl --target-modulus "${base[@]}" --target-modulus 3:1 --material 110 \
-  --solid sheet
+check_usage bad.stl --target-modulus "${base[@]}" --target-modulus 3:8 --material 110 \
+  --properties
 check_usage bad.stl --target-permeability "${base[@]}" --target-permeability 1e-9:2e-9 \
   --porosity 0.7
 
