@@ -60,7 +60,10 @@ struct DesignProblem {
   bool porosity_given = true;    // design.porosity is the user's
   bool cell_size_given = false;  // --cell-size was typed
   PropertiesRequest material;    // youngs_modulus_gpa, poisson_ratio, tolerance
-  double rel_tol = 0.01;         // the solve stops within this of the target
+  // The solve stops within this of the target: CMC members computed with --fast scatter by
+  // about 1 % in modulus from one porosity to the next (G at 32^3: 8.22, 8.13, 8.10, 7.61 GPa at
+  // porosity 0.6970, 0.6986, 0.6993, 0.7015), so a tighter stop only costs members.
+  double rel_tol = 0.02;
   int max_evaluations = 8;       // property evaluations per solved parameter
 };
 
