@@ -295,7 +295,8 @@ void print_design(const nlohmann::json& design, const std::string& units) {
     if (s.contains("cell_size"))
       text += fmt::format(" cell size {:.4g} {} ({})", s["cell_size"].get<double>(), units,
                           rep["solved_by"]["cell_size"].get<std::string>());
-    return text + fmt::format(" from {} evaluations", rep["evaluations"].size());
+    const std::size_t count = rep["evaluations"].size();
+    return text + fmt::format(" from {} evaluation{}", count, count == 1 ? "" : "s");
   };
   std::string line = "design:";
   if (design.contains("ends"))
