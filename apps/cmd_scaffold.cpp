@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 #include "common/wall_clock.h"
 #include "cli_common.h"
@@ -29,6 +30,7 @@
 #include "pipeline/member_topology.h"
 #include "pipeline/properties_stage.h"
 #include "pipeline/scaffold_compare.h"
+#include "pipeline/scaffold_design.h"
 #include "mesh_options.h"
 #include "run_control.h"
 
@@ -66,6 +68,11 @@ struct ScaffoldCommand {
   std::string shape;
   double skin = 0.0;
   CLI::Option* size_option = nullptr;
+  // Design from targets (pipeline/scaffold_design.h): V or A:B along --axis.
+  std::string target_modulus, target_permeability;
+  double pore_size = NAN, min_wall = NAN;
+  bool strict_min_wall = false;
+  CLI::Option* cell_size_option = nullptr;
   int threads = 0;
   bool quiet = false;
 };
@@ -222,6 +229,99 @@ void check_topology(const ScaffoldCommand& cmd, const nlohmann::json& about) {
                         "--accept-topology-change");
 }
 
+// --target-modulus, --target-permeability, --pore-size, --min-wall as a problem: what solves
+// what, checked before any work (exit 2). None when no target is given.
+struct Targets {
+  DesignProblem problem;
+  DesignPlan plan;
+  TargetValue modulus, permeability;
+  bool graded() const { return modulus.ramp() || permeability.ramp(); }
+};
+
+std::optional<Targets> plan_targets(const ScaffoldCommand& cmd, const ScaffoldDesign& d) {
+  Targets t;
+  try {
+    t.modulus = parse_target_value(cmd.target_modulus, "--target-modulus");
+    t.permeability = parse_target_value(cmd.target_permeability, "--target-permeability");
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (!t.modulus.given() && !t.permeability.given() && std::isnan(cmd.pore_size) &&
+      std::isnan(cmd.min_wall)) {
+    if (cmd.strict_min_wall) throw UsageError("--strict-min-wall: only with --min-wall");
+    if (cmd.porosity.empty())
+      throw UsageError("--porosity: required (or --target-modulus or --target-permeability to "
+                       "solve it)");
+    return std::nullopt;
+  }
+  DesignProblem& p = t.problem;
+  p.design = d;
+  p.porosity_given = !cmd.porosity.empty();
+  p.cell_size_given = cmd.cell_size_option->count() > 0;
+  p.targets = {t.modulus.from, t.permeability.from, cmd.pore_size, cmd.min_wall,
+               cmd.strict_min_wall};
+  if (cmd.strict_min_wall && std::isnan(cmd.min_wall))
+    throw UsageError("--strict-min-wall: only with --min-wall");
+  try {
+    set_properties_material(p.material, cmd.material);
+    if (const std::string why = check_properties_request(p.material); !why.empty())
+      throw std::invalid_argument(why);
+    t.plan = plan_design(p);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (t.graded()) {
+    const char* option = t.modulus.ramp() ? "--target-modulus" : "--target-permeability";
+    if (!t.plan.solve_porosity ||
+        (t.permeability.ramp() && t.plan.porosity_by != TargetQuantity::kPermeability))
+      throw UsageError(fmt::format("{} A:B: grades the porosity it solves; a graded cell size "
+                                   "(a permeability ramp at a given porosity) is not done",
+                                   option));
+    if (cmd.compare_nodal || cmd.properties || !cmd.shape.empty())
+      throw UsageError(fmt::format("{} A:B: not with --compare-nodal, --properties or --shape "
+                                   "(like --porosity A:B)", option));
+  }
+  return t;
+}
+
+// What a design solved and from which target, and each target recomputed on the part.
+void print_design(const nlohmann::json& design, const std::string& units) {
+  auto solved = [&](const nlohmann::json& rep) {
+    std::string text;
+    const auto& s = rep["solved"];
+    if (s.contains("porosity"))
+      text += fmt::format(" porosity {:.4f} ({})", s["porosity"].get<double>(),
+                          rep["solved_by"]["porosity"].get<std::string>());
+    if (s.contains("cell_size"))
+      text += fmt::format(" cell size {:.4g} {} ({})", s["cell_size"].get<double>(), units,
+                          rep["solved_by"]["cell_size"].get<std::string>());
+    const std::size_t count = rep["evaluations"].size();
+    return text + fmt::format(" from {} evaluation{}", count, count == 1 ? "" : "s");
+  };
+  std::string line = "design:";
+  if (design.contains("ends"))
+    line += " graded," + solved(design["ends"][0]) + "; to" + solved(design["ends"][1]);
+  else if (design.contains("solved"))
+    line += solved(design);
+  if (design.contains("seconds"))
+    line += fmt::format(" ({:.1f} s)", design["seconds"].get<double>());
+  const auto& a = design["achieved"];
+  for (const auto& [key, name, unit] :
+       {std::tuple{"modulus_gpa", "modulus", std::string("GPa")},
+        {"permeability_m2", "permeability", std::string("m^2")},
+        {"pore_size", "mean pore size", units}})
+    if (a.contains(key))
+      line += fmt::format("; {} {:.4g} {} (target {:.4g}, {:+.1f} %)", name,
+                          a[key]["value"].get<double>(), unit, a[key]["target"].get<double>(),
+                          100.0 * a[key]["relative_error"].get<double>());
+  if (a.contains("min_wall"))
+    line += fmt::format("; thinnest wall (5th percentile) {:.4g} {} ({} --min-wall {})",
+                        a["min_wall"]["wall_p5"].get<double>(), units,
+                        a["min_wall"]["met"].get<bool>() ? "meets" : "BELOW",
+                        a["min_wall"]["min_wall"].get<double>());
+  std::cerr << line << "\n";
+}
+
 int run_scaffold(ScaffoldCommand& cmd) {
   // Everything is checked before anything is computed or written.
   try {
@@ -234,22 +334,23 @@ int run_scaffold(ScaffoldCommand& cmd) {
   }
   cmd.params.surface = cmd.surface;
   ScaffoldDesign d;
-  std::optional<PorosityRamp> ramp = parse_porosity(cmd.porosity, cmd.axis, d.porosity);
+  std::optional<PorosityRamp> ramp;
+  if (!cmd.porosity.empty()) ramp = parse_porosity(cmd.porosity, cmd.axis, d.porosity);
   if (cmd.solid == "network") d.solid = SolidKind::kNetwork;
   else if (cmd.solid == "sheet") d.solid = SolidKind::kSheet;
   else throw UsageError(fmt::format("--solid: got '{}'; accepted: network|sheet", cmd.solid));
-  if (ramp && d.solid == SolidKind::kSheet)
-    throw UsageError("--porosity A:B: a graded part is a network solid; --solid sheet takes one "
-                     "porosity");
   if (cmd.graded_members != 0 && (cmd.graded_members < 2 || cmd.graded_members > 11))
     throw UsageError(
         fmt::format("--graded-members: got {}; accepted: 2 .. 11", cmd.graded_members));
+  if (cmd.graded_members != 0 && d.solid == SolidKind::kSheet)
+    throw UsageError("--graded-members: a graded sheet grades its wall around one member; only "
+                     "for a network");
   if (cmd.compare_nodal && ramp)
     throw UsageError("--compare-nodal: takes one --porosity, not a ramp");
   // The unit cell's properties (docs/properties.md): the request checked before any work.
   PropertiesRequest properties_request;
-  if (!cmd.material.empty() && !cmd.properties)
-    throw UsageError("--material: only with --properties");
+  if (!cmd.material.empty() && !cmd.properties && cmd.target_modulus.empty())
+    throw UsageError("--material: only with --properties or --target-modulus");
   if (cmd.properties) {
     if (ramp)
       throw UsageError("--properties: takes one --porosity, not a ramp (each member's cell "
@@ -317,23 +418,29 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--min-feature: got {}; accepted: 0 .. {:g} in --units (0: "
                                  "none)", cmd.min_feature, kMaxCellSize));
   d.min_feature = cmd.min_feature;
+  std::optional<Targets> targets = plan_targets(cmd, d);
   cmd.params.volume_fraction = member_volume_fraction(d);
   finish_run_options(cmd.params, cmd.strings, true);
   if (ramp) ramp->fraction_tol = cmd.params.volume_tol;  // the members' own tolerance
-  const double h = d.cell_size / cmd.params.grid;
-  double nodes = 1.0;
-  for (int c = 0; c < 3; ++c) {
-    if (d.size[c] / h > 8192 || d.size[c] / h < 2)
-      throw UsageError(fmt::format(
-          "{}: {} {} is {:.0f} grid spacings (--cell-size / --grid = {:.4g}); accepted: 2 .. "
-          "8192", shape ? "--shape" : "--size", d.size[c], d.units, d.size[c] / h, h));
-    nodes *= std::ceil(d.size[c] / h);
-  }
-  if (nodes > kMaxPartNodes)
-    throw UsageError(fmt::format(
-        "{}: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
-        "at most {:.3g} (about 9 bytes each, plus the mesh): a smaller box or --grid",
-        shape ? "--shape" : "--size", nodes, h, d.units, kMaxPartNodes));
+  // The box in lattice nodes ("" when it fits); again after a design solves the cell size.
+  auto box_problem = [&]() -> std::string {
+    const double h = d.cell_size / cmd.params.grid;
+    double nodes = 1.0;
+    for (int c = 0; c < 3; ++c) {
+      if (d.size[c] / h > 8192 || d.size[c] / h < 2)
+        return fmt::format(
+            "{}: {} {} is {:.0f} grid spacings (--cell-size / --grid = {:.4g}); accepted: 2 .. "
+            "8192", shape ? "--shape" : "--size", d.size[c], d.units, d.size[c] / h, h);
+      nodes *= std::ceil(d.size[c] / h);
+    }
+    if (nodes > kMaxPartNodes)
+      return fmt::format(
+          "{}: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
+          "at most {:.3g} (about 9 bytes each, plus the mesh): a smaller box or --grid",
+          shape ? "--shape" : "--size", nodes, h, d.units, kMaxPartNodes);
+    return {};
+  };
+  if (const std::string why = box_problem(); !why.empty()) throw UsageError(why);
   MeshPlan plan;
   plan.out = cmd.out;
   try {
@@ -348,11 +455,61 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--cache: '{}' exists and is not a directory", cache.string()));
   const int threads = apply_threads(cmd.threads);
 
+  // Design from targets: the porosity (each end of a graded target) and the cell size solved.
+  nlohmann::json design_report;
+  auto member_at = [&](double porosity) {
+    RunParams p = cmd.params;
+    p.volume_fraction = d.solid == SolidKind::kNetwork ? 1.0 - porosity : 0.5;
+    nlohmann::json about;
+    Field f = member_field(cmd, p, cache, about);
+    check_topology(cmd, about);
+    return f;
+  };
+  if (targets && targets->plan.any()) {
+    auto say = [&](const std::string& line) {
+      if (!cmd.quiet) std::cerr << line << "\n";
+    };
+    try {
+      if (targets->graded()) {
+        std::vector<DesignSolution> ends;
+        for (int end = 0; end < 2; ++end) {
+          DesignProblem p = targets->problem;
+          if (targets->modulus.ramp())
+            p.targets.modulus_gpa = end == 0 ? targets->modulus.from : targets->modulus.to;
+          else
+            p.targets.permeability_m2 =
+                end == 0 ? targets->permeability.from : targets->permeability.to;
+          ends.push_back(solve_design(p, targets->plan, member_at, say));
+        }
+        ramp = parse_porosity(fmt::format("{:.6f}:{:.6f}", ends[0].porosity, ends[1].porosity),
+                              cmd.axis, d.porosity);
+        ramp->fraction_tol = cmd.params.volume_tol;
+        design_report = {{"ends", {ends[0].report, ends[1].report}},
+                         {"seconds", ends[0].report["seconds"].get<double>() +
+                                         ends[1].report["seconds"].get<double>()}};
+      } else {
+        const DesignSolution s = solve_design(targets->problem, targets->plan, member_at, say);
+        d.porosity = s.porosity;
+        d.cell_size = s.cell_size;
+        design_report = s.report;
+      }
+    } catch (const TargetUnreachable& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+    cmd.params.volume_fraction = member_volume_fraction(d);
+    if (const std::string why = box_problem(); !why.empty()) {
+      std::cerr << fmt::format("error: the design's cell size {:.4g} {}: {}\n", d.cell_size,
+                               d.units, why);
+      return kExitFailure;
+    }
+  }
+
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json member;
   Field phi;
   std::vector<GradedMember> members;
-  if (ramp) {
+  if (ramp && d.solid == SolidKind::kNetwork) {
     // Members at evenly spaced solid fractions from one end of the ramp to the other.
     const double a0 = 1.0 - std::max(ramp->from, ramp->to),
                  a1 = 1.0 - std::min(ramp->from, ramp->to);
@@ -379,8 +536,10 @@ int run_scaffold(ScaffoldCommand& cmd) {
       seconds_since(t0);
   ScaffoldPart part;
   try {
-    part = ramp ? design_graded_scaffold(members, d, *ramp)
-                : design_scaffold(phi, d, shape ? &*shape : nullptr);
+    // A graded sheet grades the wall around the one balanced member.
+    part = !ramp                           ? design_scaffold(phi, d, shape ? &*shape : nullptr)
+           : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp)
+                                          : design_graded_scaffold(members, d, *ramp);
   } catch (const ClosedCellError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
@@ -388,6 +547,24 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--porosity: {}", e.what()));
   }
   if (shape) part.report["shape"]["file"] = cmd.shape;
+  if (targets) {
+    // The targets recomputed on the part as written (its cell, its morphometry).
+    DesignProblem p = targets->problem;
+    p.design.porosity = d.porosity;
+    p.design.cell_size = d.cell_size;
+    if (ramp) p.targets.modulus_gpa = p.targets.permeability_m2 = NAN;  // the ends' are above
+    nlohmann::json achieved;
+    try {
+      achieved = confirm_design(p, phi, part.report, part.warnings);
+    } catch (const TargetUnreachable& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+    if (design_report.is_null()) design_report = nlohmann::json::object();
+    design_report["achieved"] = achieved;
+    part.report["design"].update(design_report);
+    part.report["warnings"] = part.warnings;
+  }
   if (cmd.compare_nodal) {
     if (!cmd.quiet) std::cerr << "building the nodal twin (--compare-nodal)\n";
     part.report["compare_nodal"] =
@@ -419,14 +596,16 @@ int run_scaffold(ScaffoldCommand& cmd) {
   plan.meta.description = fmt::format(
       "surface={}; solid={}; porosity={:.4f} (target {}); cell_size={} {}; size={}x{}x{} {}{}",
       cmd.surface, cmd.solid, r["porosity"].get<double>(),
-      ramp ? fmt::format("{} along {}", cmd.porosity, cmd.axis) : fmt::format("{}", d.porosity),
+      ramp ? fmt::format("{:.6g}:{:.6g} along {}", ramp->from, ramp->to, cmd.axis)
+           : fmt::format("{:.6g}", d.porosity),
       d.cell_size, d.units,
       d.size[0], d.size[1], d.size[2], d.units,
       d.solid == SolidKind::kSheet
           ? fmt::format("; thickness={:.4g} {}", r["sheet"]["thickness"].get<double>(), d.units)
           : "");
   nlohmann::json members_about = {{"members", member}, {"seconds", member_seconds}};
-  if (!ramp) members_about = member, members_about["seconds"] = member_seconds;
+  if (!ramp || d.solid == SolidKind::kSheet)
+    members_about = member, members_about["seconds"] = member_seconds;
   write_mesh_with_report(part.mesh, part.report, plan,
                          {{"member", members_about}, {"threads", threads},
                           {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
@@ -438,9 +617,9 @@ int run_scaffold(ScaffoldCommand& cmd) {
         "{} triangles, {}, {}; {} fragments removed ({:.3g} {}^3); pores percolate x y z\n",
         cmd.surface, cmd.solid, d.size[0], d.size[1], d.size[2], d.units,
         r["porosity"].get<double>(),
-        ramp ? fmt::format("{} along {}, mean {}", cmd.porosity, cmd.axis,
+        ramp ? fmt::format("{:.6g}:{:.6g} along {}, mean {:.6g}", ramp->from, ramp->to, cmd.axis,
                            0.5 * (ramp->from + ramp->to))
-             : fmt::format("{}", d.porosity),
+             : fmt::format("{:.6g}", d.porosity),
         r["porosity_error"].get<double>(),
         d.solid == SolidKind::kSheet ? fmt::format(", wall thickness {:.4g} {}",
                                                    r["sheet"]["thickness"].get<double>(), d.units)
@@ -499,6 +678,15 @@ int run_scaffold(ScaffoldCommand& cmd) {
             c["nodal"]["wall_thickness"]["std"]);
         row("pore size std (" + d.units + ")", c["cmc"]["pore_size"]["std"],
             c["nodal"]["pore_size"]["std"]);
+        // The thinnest wall and narrowest pore: where the CMC part's evenness shows.
+        for (const auto& [key, name] : {std::pair{"wall_thickness", "wall thickness"},
+                                        {"pore_size", "pore size"}})
+          for (const char* stat : {"min", "p5"})
+            if (c["cmc"][key].contains(stat))
+              row(fmt::format("{} {} ({})", name, stat, d.units), c["cmc"][key][stat],
+                  c["nodal"][key][stat]);
+        if (c["cmc"].contains("throat"))
+          row("throat min (" + d.units + ")", c["cmc"]["throat"], c["nodal"]["throat"]);
       }
       if (c["cmc"].contains("thickness"))
         row("sheet thickness (" + d.units + ")", c["cmc"]["thickness"], c["nodal"]["thickness"]);
@@ -541,6 +729,7 @@ int run_scaffold(ScaffoldCommand& cmd) {
       if (pj.contains("nodal")) line("nodal", pj["nodal"]);
       if (pj.contains("nodal_offset")) line("nodal offset", pj["nodal_offset"]);
     }
+    if (r["design"].contains("achieved")) print_design(r["design"], d.units);
     if (r.contains("decimation")) {
       const auto& dm = r["decimation"];
       if (dm["applied"].get<bool>())
@@ -577,8 +766,9 @@ CommandFn add_scaffold_command(CLI::App& root) {
       ->capture_default_str();
   app->add_option("--porosity", cmd->porosity,
                   "Target porosity of the part: 1 - solid / box volume, in (0, 1); A:B ramps it "
-                  "linearly from A to B along --axis (network only)")
-      ->required();
+                  "linearly from A to B along --axis (a network's members are blended, a "
+                  "sheet's wall thickness graded); required unless "
+                  "--target-modulus or --target-permeability solves it");
   app->add_option("--axis", cmd->axis, "Axis of a --porosity A:B ramp: x, y or z")
       ->capture_default_str();
   app->add_option("--graded-members", cmd->graded_members,
@@ -588,8 +778,9 @@ CommandFn add_scaffold_command(CLI::App& root) {
                   "porosity) or sheet (a wall around the alpha = 1/2 surface, its thickness "
                   "solved for the porosity)")
       ->capture_default_str();
-  app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")
-      ->capture_default_str();
+  cmd->cell_size_option =
+      app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")
+          ->capture_default_str();
   cmd->size_option =
       app->add_option(
              "--size", cmd->size,
@@ -632,6 +823,23 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_flag("--accept-topology-change", cmd->accept_topology_change,
                 "Use a member whose topology (Euler characteristic) differs from its family's "
                 "(the nodal start's); refused by default");
+  // Design from targets (docs/scaffolds.md, "Design from targets").
+  app->add_option("--target-modulus", cmd->target_modulus,
+                  "Solve the porosity (a network's member, a sheet's wall) for this Young's "
+                  "modulus of the unit cell in GPa (mean of x, y, z; needs --material); A:B "
+                  "grades it along --axis");
+  app->add_option("--target-permeability", cmd->target_permeability,
+                  "A permeability in m^2 (mean of x, y, z): solves the cell size when the "
+                  "porosity is given or solved by --target-modulus, else the porosity; A:B "
+                  "grades the porosity along --axis");
+  app->add_option("--pore-size", cmd->pore_size,
+                  "Solve the cell size for this mean pore diameter in --units at the porosity "
+                  "asked (given or solved)");
+  app->add_option("--min-wall", cmd->min_wall,
+                  "Warn when the thinnest wall (5th percentile of the wall thickness) is below "
+                  "this, in --units");
+  app->add_flag("--strict-min-wall", cmd->strict_min_wall,
+                "With --min-wall: refuse (exit 1, nothing written) instead of warning");
   add_run_options(*app, cmd->params, cmd->strings, false);
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress or summary output");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <numeric>
 
 namespace cmcsurf {
@@ -134,6 +135,19 @@ ThicknessStats thickness_stats(const std::vector<double>& thickness,
   }
   s.mean = sum / count;
   s.std = std::sqrt(std::max(0.0, sum2 / count - s.mean * s.mean));
+  std::vector<double> values;
+  values.reserve(count);
+  for (std::size_t c = 0; c < thickness.size(); ++c)
+    if (inside[c]) values.push_back(thickness[c] * voxel);
+  // Nearest rank: the smallest value with at least q of the voxels at or below it.
+  auto percentile = [&](double q) {
+    const std::size_t rank = std::min(count - 1, std::size_t(std::ceil(q * count)) - (q > 0));
+    std::nth_element(values.begin(), values.begin() + rank, values.end());
+    return values[rank];
+  };
+  s.p5 = percentile(0.05);
+  s.p50 = percentile(0.50);
+  s.p95 = percentile(0.95);
   const double width = s.max > 0 ? s.max / bins : 1.0;
   s.histogram.assign(bins, 0.0);
   for (int b = 0; b <= bins; ++b) s.histogram_edges.push_back(b * width);
@@ -146,9 +160,82 @@ ThicknessStats thickness_stats(const std::vector<double>& thickness,
 nlohmann::json thickness_json(const ThicknessStats& s, const std::string& units) {
   return {{"mean", s.mean},        {"std", s.std},
           {"min", s.min},          {"max", s.max},
+          {"p5", s.p5},            {"p50", s.p50},
+          {"p95", s.p95},
           {"units", units},        {"volume_fraction", s.fraction},
           {"histogram_edges", s.histogram_edges},
           {"histogram", s.histogram}};
+}
+
+std::array<double, 3> throat_diameter(const std::vector<std::uint8_t>& inside, int n) {
+  const std::vector<double> d2 = periodic_edt2(inside, n);
+  const std::size_t cells = d2.size();
+  std::vector<std::size_t> order;
+  for (std::size_t c = 0; c < cells; ++c)
+    if (inside[c]) order.push_back(c);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return d2[a] > d2[b]; });
+  // Union-find over the active centres with each voxel's period offset from its root: two
+  // paths to one voxel that arrive in different periods wrap the cell along those axes.
+  using Shift = std::array<int, 3>;
+  std::vector<std::int64_t> parent(cells, -1);  // -1: not yet active
+  std::vector<Shift> shift(cells, Shift{0, 0, 0});
+  std::vector<std::array<bool, 3>> wraps(cells, {false, false, false});
+  auto find = [&](std::size_t x) {
+    // Two passes: to the root summing shifts, then compress the path.
+    std::size_t r = x;
+    Shift total{0, 0, 0};
+    while (std::size_t(parent[r]) != r) {
+      for (int c = 0; c < 3; ++c) total[c] += shift[r][c];
+      r = std::size_t(parent[r]);
+    }
+    Shift left = total;
+    for (std::size_t y = x; y != r;) {
+      const std::size_t up = std::size_t(parent[y]);
+      const Shift own = shift[y];
+      shift[y] = left;
+      parent[y] = std::int64_t(r);
+      for (int c = 0; c < 3; ++c) left[c] -= own[c];
+      y = up;
+    }
+    return std::pair{r, total};
+  };
+  std::array<double, 3> throat{0.0, 0.0, 0.0};
+  std::array<bool, 3> found{false, false, false};
+  const std::size_t stride[3] = {1, std::size_t(n), std::size_t(n) * n};
+  for (std::size_t v : order) {
+    parent[v] = std::int64_t(v);
+    const int at[3] = {int(v % n), int(v / n % n), int(v / (std::size_t(n) * n))};
+    for (int axis = 0; axis < 3; ++axis)
+      for (int step : {-1, 1}) {
+        const int q = at[axis] + step;
+        const int wrapped = q < 0 ? -1 : q >= n ? 1 : 0;  // the neighbour is one period over
+        const std::size_t u = v + (std::int64_t((q + n) % n) - at[axis]) * stride[axis];
+        if (parent[u] < 0) continue;
+        auto [ru, su] = find(u);
+        auto [rv, sv] = find(v);
+        // u's copy next to v sits at sv + wrapped (along axis) in rv's frame.
+        Shift want = sv;
+        want[axis] += wrapped;
+        if (ru == rv) {
+          for (int c = 0; c < 3; ++c)
+            if (want[c] != su[c]) wraps[rv][c] = true;
+        } else {
+          parent[ru] = std::int64_t(rv);
+          for (int c = 0; c < 3; ++c) {
+            shift[ru][c] = want[c] - su[c];
+            wraps[rv][c] = wraps[rv][c] || wraps[ru][c];
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+          if (!found[c] && wraps[rv][c]) {
+            found[c] = true;
+            throat[c] = std::max(1.0, 2.0 * std::sqrt(std::min(d2[v], double(n) * n)) - 1.0);
+          }
+      }
+    if (found[0] && found[1] && found[2]) break;
+  }
+  return throat;
 }
 
 }  // namespace cmcsurf

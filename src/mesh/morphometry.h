@@ -7,6 +7,8 @@
 // enough for it): a voxel's thickness is the first radius whose opening holds it.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -29,6 +31,9 @@ std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int
 
 struct ThicknessStats {
   double mean = 0.0, std = 0.0, min = 0.0, max = 0.0;
+  // Percentiles over the phase's voxels (volume-weighted): p5 is the thinnest wall a designer
+  // can trust, min moves with the grid (one voxel at a corner can read thin).
+  double p5 = 0.0, p50 = 0.0, p95 = 0.0;
   double fraction = 0.0;  // of the cell's voxels in the phase
   std::vector<double> histogram_edges, histogram;  // fraction of the phase's voxels per bin
 };
@@ -37,5 +42,12 @@ ThicknessStats thickness_stats(const std::vector<double>& thickness,
                                const std::vector<std::uint8_t>& inside, double voxel,
                                int bins = 20);
 nlohmann::json thickness_json(const ThicknessStats& s, const std::string& units);
+
+// The throat of a phase along each axis: the diameter (in voxels, 2 r - 1 as local_thickness
+// counts it) of the largest ball that passes through the periodic cell along x, y, z, i.e. the
+// largest r such that the centres at distance >= r from outside the phase connect (through
+// face neighbours) to their own copy one period along the axis; the bottleneck of the
+// distance map. 0 along an axis where the phase does not percolate.
+std::array<double, 3> throat_diameter(const std::vector<std::uint8_t>& inside, int n);
 
 }  // namespace cmcsurf

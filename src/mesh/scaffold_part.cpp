@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -48,6 +50,33 @@ double steiner_thickness(double s, double area, double chi) {
     t -= g / (area + std::numbers::pi * chi / 2 * t * t);
   }
   return t;
+}
+
+// The design's solid on one unit cell: {transform(g) > level}, g the member (network) or the
+// signed distance to its surface (sheet, at the Steiner thickness of d.porosity).
+struct CellSolid {
+  Field distance;  // empty for a network
+  std::function<double(double)> transform = [](double v) { return v - 0.5; };
+  double level = 0.0;
+  nlohmann::json sheet;
+};
+
+CellSolid cell_solid(const Field& phi, const ScaffoldDesign& d) {
+  CellSolid cs;
+  if (d.solid != SolidKind::kSheet) return cs;
+  const nlohmann::json periodic = periodic_surface_json(phi);
+  const double area = periodic["area"].get<double>();
+  const double chi = periodic["euler_characteristic"].get<double>();
+  const double t = steiner_thickness(1.0 - d.porosity, area, chi);
+  if (!(t > 0.0 && t < 0.5))
+    throw std::invalid_argument(fmt::format(
+        "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
+        "walls thinner than half a cell", d.porosity, t));
+  cs.distance = signed_distance(phi, std::min(0.5, t + 4.0 / phi.n()));
+  cs.transform = [](double v) { return -std::abs(v); };
+  cs.level = -0.5 * t;
+  cs.sheet = {{"thickness_steiner", t * d.cell_size}};
+  return cs;
 }
 
 }  // namespace
@@ -230,9 +259,18 @@ nlohmann::json cell_morphometry(const Field& g, const std::function<double(doubl
   const ThicknessStats pores = thickness_stats(local_thickness(pore, m), pore, voxel);
   morph["wall_thickness"] = thickness_json(wall, d.units);
   morph["pore_size"] = thickness_json(pores, d.units);
+  std::array<double, 3> throat = throat_diameter(pore, m);
+  for (double& t : throat) t *= voxel;
+  morph["throat"] = {{"diameter", throat},
+                     {"min", *std::min_element(throat.begin(), throat.end())},
+                     {"units", d.units},
+                     {"note", "largest ball that passes through the pore space along x, y, z "
+                              "(the bottleneck of its distance map, periodic cell); 0: the "
+                              "pores do not percolate along that axis"}};
   morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
                     "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
-                    "Euclidean distance transform; diameters, within one voxel";
+                    "Euclidean distance transform; diameters, within one voxel; p5, p50, p95: "
+                    "percentiles over the phase's volume";
   morph["voxel"] = voxel;
   if (d.min_feature > 0) {
     morph["min_feature"] = d.min_feature;
@@ -257,6 +295,51 @@ nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat
                    "box volume (cut faces included)"}};
 }
 
+// The porosity profile along the axis, per cell: the target (target_solid per node layer) and
+// the fraction of each layer's nodes outside the solid {value > level}.
+nlohmann::json porosity_profile(const PartLattice& lat, double level, int axis,
+                                const std::vector<double>& target_solid, const ScaffoldDesign& d) {
+  nlohmann::json profile = nlohmann::json::array();
+  const int layers = lat.nodes[axis];
+  std::vector<std::size_t> inside(layers, 0);
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    for (int j = 0; j < lat.nodes[1]; ++j)
+      for (int i = 0; i < lat.nodes[0]; ++i) {
+        const std::size_t id = lat.index(i, j, k);
+        const int at[3] = {i, j, k};
+        inside[at[axis]] += lat.value(id, level) > 0.0 && !lat.removed[id];
+      }
+  const double per_layer = double(lat.count()) / layers;
+  const int slabs = std::max(1, int(std::lround(d.size[axis] / d.cell_size)));
+  for (int b = 0; b < slabs; ++b) {
+    const int q0 = b * layers / slabs, q1 = (b + 1) * layers / slabs;
+    double solid = 0.0, want = 0.0;
+    for (int q = q0; q < q1; ++q) solid += inside[q] / per_layer, want += target_solid[q];
+    profile.push_back({{"from", q0 * lat.spacing[axis]},
+                       {"to", q1 * lat.spacing[axis]},
+                       {"porosity_target", 1.0 - want / (q1 - q0)},
+                       {"porosity_nodes", 1.0 - solid / (q1 - q0)}});
+  }
+  return profile;
+}
+
+// --min-feature once over a graded part's cells: the thinnest wall and pore of any.
+void warn_min_feature(const nlohmann::json& cells, const ScaffoldDesign& d,
+                      std::vector<std::string>& warnings) {
+  if (!(d.min_feature > 0) || cells.empty()) return;
+  for (const char* key : {"wall_thickness", "pore_size"}) {
+    const auto thinnest = std::min_element(cells.begin(), cells.end(), [&](auto& a, auto& b) {
+      return a[key]["min"].template get<double>() < b[key]["min"].template get<double>();
+    });
+    const double v = (*thinnest)[key]["min"].get<double>();
+    if (v < d.min_feature)
+      warnings.push_back(fmt::format(
+          "{} {:.4g} {} (cell at porosity {:.2f}) is below --min-feature {}",
+          key == std::string("wall_thickness") ? "thinnest wall" : "narrowest pore", v, d.units,
+          (*thinnest)["porosity"].get<double>(), d.min_feature));
+  }
+}
+
 }  // namespace
 
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape) {
@@ -268,26 +351,11 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
   auto t0 = std::chrono::steady_clock::now();
 
   // The field sampled on the box and the level of the solid {a > level}.
-  Field distance;
-  const Field* g = &phi;
-  std::function<double(double)> transform = [](double v) { return v - 0.5; };
-  double level = 0.0;
-  nlohmann::json sheet;
-  if (d.solid == SolidKind::kSheet) {
-    const nlohmann::json periodic = periodic_surface_json(phi);
-    const double area = periodic["area"].get<double>();
-    const double chi = periodic["euler_characteristic"].get<double>();
-    const double t = steiner_thickness(1.0 - d.porosity, area, chi);
-    if (!(t > 0.0 && t < 0.5))
-      throw std::invalid_argument(fmt::format(
-          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
-          "walls thinner than half a cell", d.porosity, t));
-    distance = signed_distance(phi, std::min(0.5, t + 4.0 / n));
-    g = &distance;
-    transform = [](double v) { return -std::abs(v); };
-    level = -0.5 * t;
-    sheet = {{"thickness_steiner", t * d.cell_size}};
-  }
+  CellSolid cs = cell_solid(phi, d);
+  const Field* g = cs.distance.n() > 0 ? &cs.distance : &phi;
+  const std::function<double(double)> transform = cs.transform;
+  const double level = cs.level;
+  nlohmann::json sheet = cs.sheet;
   const double field_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   nlohmann::json shape_report;
@@ -425,41 +493,25 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   double final_level = 0.0;
   ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level);
   nlohmann::json& r = out.report;
-  // The porosity profile along the axis: the fraction of each layer's nodes outside the solid.
-  nlohmann::json profile = nlohmann::json::array();
-  const int layers = lat.nodes[ramp.axis];
-  std::vector<std::size_t> inside(layers, 0);
-  for (int k = 0; k < lat.nodes[2]; ++k)
-    for (int j = 0; j < lat.nodes[1]; ++j)
-      for (int i = 0; i < lat.nodes[0]; ++i) {
-        const std::size_t id = lat.index(i, j, k);
-        const int at[3] = {i, j, k};
-        inside[at[ramp.axis]] += lat.value(id, final_level) > 0.0 && !lat.removed[id];
-      }
-  const double per_layer = double(lat.count()) / layers;
-  const int slabs = std::max(1, int(std::lround(d.size[ramp.axis] / d.cell_size)));
-  for (int b = 0; b < slabs; ++b) {
-    const int q0 = b * layers / slabs, q1 = (b + 1) * layers / slabs;
-    double solid = 0.0, want = 0.0;
-    for (int q = q0; q < q1; ++q) solid += inside[q] / per_layer, want += target[q];
-    profile.push_back({{"from", q0 * lat.spacing[ramp.axis]},
-                       {"to", q1 * lat.spacing[ramp.axis]},
-                       {"porosity_target", 1.0 - want / (q1 - q0)},
-                       {"porosity_nodes", 1.0 - solid / (q1 - q0)}});
-  }
+  const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
   double morph_seconds = 0.0;
   t0 = std::chrono::steady_clock::now();
+  // --min-feature is checked once over the members (the thinnest wall and pore of any).
+  ScaffoldDesign each = d;
+  each.min_feature = 0.0;
+  std::vector<std::string> none;
   for (const GradedMember& m : members) {
     fractions.push_back(m.volume_fraction);
     if (d.morphometry) {
-      nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level, d,
-                                          out.warnings);
+      nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level,
+                                          each, none);
       c["porosity"] = 1.0 - m.volume_fraction;
       c.erase("method");
       cells.push_back(c);
     }
   }
+  if (d.morphometry) warn_min_feature(cells, d, out.warnings);
   morph_seconds = seconds_since(t0);
   r["design"]["porosity"] = nullptr;
   r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
@@ -473,11 +525,119 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                   "lattice nodes outside the solid"}};
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
+  if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
   r["morphometry"] = morph;
   r["warnings"] = out.warnings;
   r["seconds"]["sample"] = sample_seconds;
   r["seconds"]["morphometry"] = morph_seconds;
   return out;
+}
+
+ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
+                                 const PorosityRamp& ramp) {
+  if (d.solid != SolidKind::kSheet)
+    throw std::invalid_argument("a graded sheet is a sheet solid");
+  for (double p : {ramp.from, ramp.to})
+    if (!(p > 0.0 && p < 1.0))
+      throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", p));
+  if (ramp.axis < 0 || ramp.axis > 2) throw std::invalid_argument("ramp axis must be 0, 1 or 2");
+  const int n = phi.n();
+  auto t0 = std::chrono::steady_clock::now();
+  // Each node layer's wall from Steiner's formula at its porosity, offset from the mean wall's:
+  // a = -|d| + (t_q - t_mean) / 2, so that {a > -t_mean / 2} is {|d| < t_q / 2} and the part's
+  // level solve shifts every layer's wall by the same amount to meet the mean porosity.
+  const nlohmann::json periodic = periodic_surface_json(phi);
+  const double area = periodic["area"].get<double>();
+  const double chi = periodic["euler_characteristic"].get<double>();
+  auto wall = [&](double porosity) {
+    const double t = steiner_thickness(1.0 - porosity, area, chi);
+    if (!(t > 0.0 && t < 0.5))
+      throw std::invalid_argument(fmt::format(
+          "porosity {}: a sheet of that porosity is {:.3g} cells thick; accepted for a sheet: "
+          "walls thinner than half a cell", porosity, t));
+    return t;
+  };
+  const double mean_porosity = 0.5 * (ramp.from + ramp.to);
+  const double t_from = wall(ramp.from), t_to = wall(ramp.to), t_mean = wall(mean_porosity);
+  const Field distance = signed_distance(phi, std::min(0.5, std::max(t_from, t_to) + 4.0 / n));
+  const double field_seconds = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  PartLattice lat =
+      sample_part(distance, d.size, d.cell_size, [](double v) { return -std::abs(v); });
+  const int layers = lat.nodes[ramp.axis];
+  std::vector<double> target(layers), offset(layers);
+  for (int q = 0; q < layers; ++q) {
+    const double p = ramp.from + (ramp.to - ramp.from) * (q + 0.5) / layers;
+    target[q] = 1.0 - p;
+    offset[q] = 0.5 * (wall(p) - t_mean);
+  }
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    for (int j = 0; j < lat.nodes[1]; ++j)
+      for (int i = 0; i < lat.nodes[0]; ++i) {
+        const int at[3] = {i, j, k};
+        lat.a[lat.index(i, j, k)] += float(offset[at[ramp.axis]]);
+      }
+  const double sample_seconds = seconds_since(t0);
+  ScaffoldDesign mean = d;
+  mean.porosity = mean_porosity;
+  double final_level = -0.5 * t_mean;
+  ScaffoldPart out = finish_part(lat, final_level, mean, n,
+                                 {{"thickness_steiner_from", t_from * d.cell_size},
+                                  {"thickness_steiner_to", t_to * d.cell_size}},
+                                 final_level);
+  nlohmann::json& r = out.report;
+  // The solve's shift of every wall: thickness_q = t_q - 2 (level + t_mean / 2).
+  const double shift = -2.0 * (final_level + 0.5 * t_mean);
+  r["sheet"]["thickness_from"] = (t_from + shift) * d.cell_size;
+  r["sheet"]["thickness_to"] = (t_to + shift) * d.cell_size;
+  r["sheet"]["thickness_note"] = "thickness: the mean layer's; thickness_from and _to at the ends "
+                                 "of the axis";
+  const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
+  // The wall and pores of the cells at the two ends.
+  nlohmann::json cells = nlohmann::json::array();
+  t0 = std::chrono::steady_clock::now();
+  if (d.morphometry) {
+    ScaffoldDesign each = d;
+    each.min_feature = 0.0;
+    std::vector<std::string> none;
+    for (const auto& [p, t] : {std::pair{ramp.from, t_from}, {ramp.to, t_to}}) {
+      nlohmann::json c = cell_morphometry(distance, [](double v) { return -std::abs(v); },
+                                          -0.5 * (t + shift), each, none);
+      c["porosity"] = p;
+      c.erase("method");
+      cells.push_back(c);
+    }
+    warn_min_feature(cells, d, out.warnings);
+  }
+  const double morph_seconds = seconds_since(t0);
+  r["design"]["porosity"] = nullptr;
+  r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
+                 {"porosity_from", ramp.from},
+                 {"porosity_to", ramp.to},
+                 {"blend", "the sheet's wall thickness per node layer along the axis, from "
+                           "Steiner's formula at the layer's porosity, all shifted together to "
+                           "meet the mean porosity"},
+                 {"profile", profile},
+                 {"profile_note", "per cell along the axis: the target and the fraction of "
+                                  "lattice nodes outside the solid"}};
+  nlohmann::json morph = surface_measures(out, lat, d.units);
+  if (d.morphometry) morph["members"] = cells;
+  if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
+  r["morphometry"] = morph;
+  r["warnings"] = out.warnings;
+  r["seconds"]["distance_field"] = field_seconds;
+  r["seconds"]["sample"] = sample_seconds;
+  r["seconds"]["morphometry"] = morph_seconds;
+  return out;
+}
+
+nlohmann::json design_cell_morphometry(const Field& phi, const ScaffoldDesign& d) {
+  const CellSolid cs = cell_solid(phi, d);
+  ScaffoldDesign quiet = d;
+  quiet.min_feature = 0.0;
+  std::vector<std::string> none;
+  return cell_morphometry(cs.distance.n() > 0 ? cs.distance : phi, cs.transform, cs.level, quiet,
+                          none);
 }
 
 }  // namespace cmcsurf

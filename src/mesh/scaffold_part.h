@@ -61,6 +61,12 @@ struct ShapeFill {
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
                              const ShapeFill* shape = nullptr);
 
+// The wall thickness, pore size and throat of the design's unit cell (design_scaffold's
+// `morphometry` keys, in d.units at d.cell_size) without building the part: a network is phase
+// 1 of phi, a sheet the wall of d.porosity's Steiner thickness (the part's solved one differs
+// by the box's trimming). Sizes scale with d.cell_size: what --pore-size solves with.
+nlohmann::json design_cell_morphometry(const Field& phi, const ScaffoldDesign& d);
+
 // A graded part (the paper's Fig. 2): the porosity ramps linearly from `from` at the low
 // end of the axis to `to` at the high end.
 struct PorosityRamp {
@@ -76,5 +82,13 @@ struct PorosityRamp {
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp);
+
+// A graded sheet: the wall thickness ramps along the axis so that the porosity goes linearly
+// from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all
+// shifted by the part's level solve to meet the mean porosity). phi: the balanced member. The
+// report adds `graded` (the profile per cell), `sheet.thickness_from` and `_to`, and the end
+// cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold.
+ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
+                                 const PorosityRamp& ramp);
 
 }  // namespace cmcsurf

@@ -22,7 +22,9 @@ nlohmann::json side(const nlohmann::json& report, const CurvatureDistribution& h
   for (const char* key : {"wall_thickness", "pore_size"})
     if (m.contains(key))
       j[key] = {{"mean", m[key]["mean"]}, {"std", m[key]["std"]}, {"min", m[key]["min"]},
-                {"max", m[key]["max"]}};
+                {"max", m[key]["max"]}, {"p5", m[key]["p5"]}, {"p50", m[key]["p50"]},
+                {"p95", m[key]["p95"]}};
+  if (m.contains("throat")) j["throat"] = m["throat"]["min"];
   if (report.contains("sheet")) j["thickness"] = report["sheet"]["thickness"];
   return j;
 }

@@ -15,10 +15,11 @@ check_usage i.stl --grid "${s[@]}" --porosity 0.7 --grid 13
 check_usage j.stl --tolerance "${s[@]}" --porosity 0.7 --tolerance -1
 check_usage k.stl --surface "${s[@]}" --porosity 0.7 --surface nosuch
 check_usage l.stl --size "${s[@]}" --porosity 0.7 --size 1000
-check_usage m.stl --porosity "${s[@]}" --porosity 0.8:0.6 --solid sheet
+check_usage m.stl --shape "${s[@]}" --porosity 0.8:0.6 --solid sheet --shape "$work/nosuch.stl"
 check_usage n.stl --porosity "${s[@]}" --porosity 0.8:0.8
 check_usage o.stl --axis "${s[@]}" --porosity 0.8:0.6 --axis w
 check_usage p.stl --graded-members "${s[@]}" --porosity 0.8:0.6 --graded-members 1
+check_usage p2.stl --graded-members "${s[@]}" --porosity 0.8:0.6 --graded-members 3 --solid sheet
 check_usage q.stl --compare-nodal "${s[@]}" --porosity 0.8:0.6 --compare-nodal
 check_usage r.stl --skin "${s[@]}" --porosity 0.7 --skin 0.2
 check_usage s.stl --shape "${s[@]}" --porosity 0.7 --shape "$work/nosuch.stl"
