@@ -63,7 +63,8 @@ namespace {
 // of the mesh as written (with report.seconds of these stages); the morphometry is the
 // caller's. final_level: the level of the part returned.
 ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d, int n,
-                         nlohmann::json sheet, double& final_level) {
+                         nlohmann::json sheet, double& final_level,
+                         const DecimateProgress& progress) {
   ScaffoldPart out;
   nlohmann::json& r = out.report;
   double slope = 0.0;  // d porosity / d level, 0: unknown
@@ -140,7 +141,7 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   const bool decimate = d.decimate.max_triangles > 0 || d.decimate.tolerance > 0;
   nlohmann::json decimation;
   if (decimate) {
-    Decimated dm = decimate_solid(e.mesh, d.decimate);
+    Decimated dm = decimate_solid(e.mesh, d.decimate, progress);
     decimation = decimated_json(dm, d.decimate, d.units);
     if (!dm.within_budget)
       out.warnings.push_back(fmt::format(
@@ -259,7 +260,8 @@ nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat
 
 }  // namespace
 
-ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape) {
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape,
+                             const DecimateProgress& progress) {
   if (!(d.porosity > 0.0 && d.porosity < 1.0))
     throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
   if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
@@ -340,7 +342,7 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
   const double sample_seconds = seconds_since(t0);
 
   double final_level = level;
-  ScaffoldPart out = finish_part(lat, level, d, n, std::move(sheet), final_level);
+  ScaffoldPart out = finish_part(lat, level, d, n, std::move(sheet), final_level, progress);
   nlohmann::json& r = out.report;
   // Morphometry on the periodic unit cell (the lattice's own walls and pores).
   nlohmann::json morph = surface_measures(out, lat, d.units);
@@ -363,7 +365,8 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
 }
 
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
-                                    const ScaffoldDesign& d, const PorosityRamp& ramp) {
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp,
+                                    const DecimateProgress& progress) {
   if (d.solid != SolidKind::kNetwork)
     throw std::invalid_argument("a graded scaffold is a network solid");
   if (members.size() < 2) throw std::invalid_argument("a graded scaffold needs two members");
@@ -423,7 +426,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   ScaffoldDesign mean = d;
   mean.porosity = 0.5 * (ramp.from + ramp.to);
   double final_level = 0.0;
-  ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level);
+  ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level, progress);
   nlohmann::json& r = out.report;
   // The porosity profile along the axis: the fraction of each layer's nodes outside the solid.
   nlohmann::json profile = nlohmann::json::array();
@@ -450,16 +453,33 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
   double morph_seconds = 0.0;
   t0 = std::chrono::steady_clock::now();
+  // One --min-feature warning per phase for the whole part (the thinnest member's), not one
+  // per member.
+  std::vector<std::string> member_warnings;
   for (const GradedMember& m : members) {
     fractions.push_back(m.volume_fraction);
     if (d.morphometry) {
       nlohmann::json c = cell_morphometry(m.phi, [](double v) { return v - 0.5; }, final_level, d,
-                                          out.warnings);
+                                          member_warnings);
       c["porosity"] = 1.0 - m.volume_fraction;
       c.erase("method");
       cells.push_back(c);
     }
   }
+  if (d.min_feature > 0 && !cells.empty())
+    for (const auto& [key, what] : {std::pair<const char*, const char*>{"wall_thickness",
+                                                                         "thinnest wall"},
+                                    {"pore_size", "narrowest pore"}}) {
+      const auto least = std::min_element(cells.begin(), cells.end(), [&](const auto& a,
+                                                                           const auto& b) {
+        return a[key]["min"].template get<double>() < b[key]["min"].template get<double>();
+      });
+      const double v = (*least)[key]["min"].get<double>();
+      if (v < d.min_feature)
+        out.warnings.push_back(fmt::format("{} {:.4g} {} (member at porosity {:.2f}) is below "
+                                           "--min-feature {}", what, v, d.units,
+                                           (*least)["porosity"].get<double>(), d.min_feature));
+    }
   morph_seconds = seconds_since(t0);
   r["design"]["porosity"] = nullptr;
   r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},

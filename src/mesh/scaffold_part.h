@@ -57,9 +57,10 @@ struct ShapeFill {
 
 // phi: the member's field (whole grid, ghost >= 1); shape: fill it instead of d.size's box.
 // Throws std::invalid_argument on a design out of range and ClosedCellError on a closed-cell
-// part (nothing to write).
+// part (nothing to write). progress: the decimation's, when there is one.
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
-                             const ShapeFill* shape = nullptr);
+                             const ShapeFill* shape = nullptr,
+                             const DecimateProgress& progress = {});
 
 // A graded part (the paper's Fig. 2): the porosity ramps linearly from `from` at the low
 // end of the axis to `to` at the high end.
@@ -75,6 +76,7 @@ struct PorosityRamp {
 // `graded` (the profile per cell along the axis) and per-member morphometry. Throws
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
-                                    const ScaffoldDesign& d, const PorosityRamp& ramp);
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp,
+                                    const DecimateProgress& progress = {});
 
 }  // namespace cmcsurf
