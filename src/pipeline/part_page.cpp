@@ -295,7 +295,7 @@ double write_part_page(const fs::path& html, const fs::path& png, const nlohmann
           : std::string("");
   const std::string solid = design.value("solid", std::string("?"));
   ReportPage page;
-  page.title = fmt::format("cmcsurf part: {}{} {}, porosity {:.4f}", surface,
+  page.title = fmt::format("cmcsurf part: {}{}{}, porosity {:.4f}", surface,
                            surface.empty() ? "" : " ", solid, report.value("porosity", 0.0));
   page.subtitle = fmt::format(
       "{}: {} of {} triangles drawn, coloured by height. Cell size {:g} {}. Drag to rotate, "
