@@ -102,7 +102,7 @@ pores=$(grep -c 'narrowest pore' "$work/g.err")
 [ "$walls" -eq 1 ] && [ "$pores" -eq 1 ] || {
   echo "FAIL: a graded part's --min-feature warnings"; grep warning "$work/g.err"; fail=1; }
 skip=0
-python3 "$here/../../scripts/plot_scaffold.py" "$work/graded.stl" "$work/graded.png"
+/usr/bin/python3 "$here/../../scripts/plot_scaffold.py" "$work/graded.stl" "$work/graded.png"
 rc=$?
 if [ $rc -eq 3 ]; then
   echo "SKIP: plot_scaffold.py needs matplotlib and numpy"; skip=1
