@@ -6,6 +6,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "pipeline/part_page.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
 
@@ -20,12 +21,28 @@ struct ReportCommand {
   bool quiet = false;
 };
 
+// A part's FILE.json (cmcsurf scaffold): FILE.html and FILE.png from it and FILE.
+int part_report(const ReportCommand& cmd) {
+  double seconds = 0.0;
+  try {
+    seconds = write_part_page_from_report(cmd.dir);
+  } catch (const std::runtime_error& e) {
+    throw UsageError(fmt::format("FILE.json: {}", e.what()));
+  }
+  const std::string part = cmd.dir.substr(0, cmd.dir.size() - 5);
+  if (!cmd.quiet)
+    std::cerr << fmt::format("wrote {} and {} in {:.2f} s\n", part_page_path(part).string(),
+                             part_preview_path(part).string(), seconds);
+  return 0;
+}
+
 int report(const ReportCommand& cmd) {
   const fs::path dir(cmd.dir);
+  if (fs::is_regular_file(dir) && dir.extension() == ".json") return part_report(cmd);
   if (!fs::is_directory(dir))
     throw UsageError(fmt::format(
-        "DIR: '{}' is not a directory; accepted: a run folder (with report.json) or a sweep "
-        "folder (with sweep.json)",
+        "DIR: '{}' is not a directory; accepted: a run folder (with report.json), a sweep "
+        "folder (with sweep.json) or a part's FILE.json (cmcsurf scaffold)",
         cmd.dir));
   const bool sweep = fs::exists(dir / "sweep.json");
   if (!sweep && !fs::exists(dir / "report.json"))
@@ -57,8 +74,10 @@ CommandFn add_report_command(CLI::App& root) {
       "report",
       "Write DIR/report.html: one self-contained page (3D view, convergence, curvature "
       "histogram, key numbers) from a run or sweep folder; run and sweep write it themselves "
-      "unless --no-report");
-  app->add_option("DIR", cmd->dir, "A run folder (report.json) or a sweep folder (sweep.json)")
+      "unless --no-report. Given a part's FILE.json (cmcsurf scaffold), (re)writes FILE.html "
+      "and FILE.png");
+  app->add_option("DIR", cmd->dir,
+                  "A run folder (report.json), a sweep folder (sweep.json) or a part's FILE.json")
       ->required();
   app->add_flag("--quiet", cmd->quiet, "No output");
   return {app, [cmd]() -> int { return report(*cmd); }};

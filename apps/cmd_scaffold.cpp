@@ -25,9 +25,11 @@
 #include "io/mesh_output.h"
 #include "io/run_report.h"
 #include "io/vti.h"
+#include "mesh/mesh_size.h"
 #include "mesh/scaffold_part.h"
 #include "mesh/shape.h"
 #include "pipeline/member_topology.h"
+#include "pipeline/part_page.h"
 #include "pipeline/properties_stage.h"
 #include "pipeline/scaffold_compare.h"
 #include "pipeline/scaffold_design.h"
@@ -75,7 +77,62 @@ struct ScaffoldCommand {
   CLI::Option* cell_size_option = nullptr;
   int threads = 0;
   bool quiet = false;
+  // Mesh size in the printer's terms (docs/scaffolds.md, "Mesh size").
+  double resolution = 0.0;  // --resolution: voxel size in --units (0: --grid decides)
+  CLI::Option* tolerance_option = nullptr;
+  CLI::Option* grid_option = nullptr;
+  bool no_page = false;  // --no-page: no FILE.html, FILE.png
 };
+
+// --resolution in place of --grid, and the default chordal tolerance when neither
+// --tolerance nor --max-triangles is given. Returns FILE.json's `mesh_size`.
+nlohmann::json apply_mesh_size(ScaffoldCommand& cmd, ScaffoldDesign& d) {
+  nlohmann::json about;
+  if (cmd.resolution != 0.0) {
+    if (cmd.grid_option->count() > 0)
+      throw UsageError("--resolution: not with --grid (each sets the lattice spacing)");
+    if (!(cmd.resolution > 0 && cmd.resolution <= d.cell_size))
+      throw UsageError(fmt::format("--resolution: got {}; accepted: 0 < R <= --cell-size ({:g}) "
+                                   "in --units", cmd.resolution, d.cell_size));
+    try {
+      cmd.params.grid = grid_for_resolution(d.cell_size, cmd.resolution, kMaxGrid);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(fmt::format("--resolution: {}", e.what()));
+    }
+    about["resolution"] = cmd.resolution;
+  }
+  const bool default_tolerance = cmd.tolerance_option->count() == 0 && cmd.max_triangles == 0;
+  if (default_tolerance) d.decimate.tolerance = kDefaultChordalToleranceMm / mesh_unit_mm(d.units);
+  d.decimate.max_error_samples = kPartErrorSamples;
+  about["tolerance"] = d.decimate.tolerance;
+  about["tolerance_default"] = default_tolerance;
+  about["tolerance_note"] = fmt::format(
+      "chordal tolerance in {}; default {:g} mm when neither --tolerance nor --max-triangles "
+      "is given (--tolerance 0: not decimated)", d.units, kDefaultChordalToleranceMm);
+  about["units"] = d.units;
+  return about;
+}
+
+// One line every few seconds while a large part is decimated.
+DecimateProgress decimate_progress(const ScaffoldCommand& cmd) {
+  if (cmd.quiet) return {};
+  auto last = std::make_shared<double>(-1.0);
+  auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(
+      std::chrono::steady_clock::now());
+  return [last, t0](DecimateStage stage, int attempt, std::size_t triangles) {
+    const double now = seconds_since(*t0);
+    if (attempt == 0 && now - *last < 2.0) return;
+    *last = now;
+    if (stage == DecimateStage::kCollapse && attempt > 0)
+      std::cerr << fmt::format("decimating {} triangles (attempt {}, {:.0f} s)\n", triangles,
+                               attempt, now);
+    else if (stage == DecimateStage::kCollapse)
+      std::cerr << fmt::format("  {} triangles left ({:.0f} s)\n", triangles, now);
+    else
+      std::cerr << fmt::format("  measuring the distance of the {} triangles to the part "
+                               "({:.0f} s)\n", triangles, now);
+  };
+}
 
 // "AxBxC" or "A" in output units, each > 0.
 Vec3 parse_size(const std::string& s) {
@@ -195,8 +252,9 @@ Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
                                dir.string(), problem);
   }
   if (!cmd.quiet)
-    std::cerr << fmt::format("computing the member: surface {} alpha {:g} N {} (cached in {})\n",
-                             p.surface, p.volume_fraction, p.grid, dir.string());
+    std::cerr << fmt::format("computing the member: surface {}, solid fraction {:g}, grid {} "
+                             "(cached in {})\n", p.surface, p.volume_fraction, p.grid,
+                             dir.string());
   Progress progress(cmd.quiet);
   RunResult r = run_cmc(p, RunContext([&](const StepRecord& s) { progress.step(s); }));
   progress.finish();
@@ -328,7 +386,9 @@ int run_scaffold(ScaffoldCommand& cmd) {
     std::vector<FileRole> reads;
     if (!cmd.shape.empty()) reads.push_back({cmd.shape, "--shape"});
     check_outputs_are_not_inputs(
-        reads, {{cmd.out, "--out"}, {cmd.out + ".json", "--out's report (FILE.json)"}});
+        reads, {{cmd.out, "--out"}, {cmd.out + ".json", "--out's report (FILE.json)"},
+                {cmd.out + ".html", "--out's page (FILE.html)"},
+                {cmd.out + ".png", "--out's preview (FILE.png)"}});
   } catch (const OptionError& e) {
     throw UsageError(e.what());
   }
@@ -418,6 +478,7 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--min-feature: got {}; accepted: 0 .. {:g} in --units (0: "
                                  "none)", cmd.min_feature, kMaxCellSize));
   d.min_feature = cmd.min_feature;
+  const nlohmann::json mesh_size = apply_mesh_size(cmd, d);
   std::optional<Targets> targets = plan_targets(cmd, d);
   cmd.params.volume_fraction = member_volume_fraction(d);
   finish_run_options(cmd.params, cmd.strings, true);
@@ -537,9 +598,11 @@ int run_scaffold(ScaffoldCommand& cmd) {
   ScaffoldPart part;
   try {
     // A graded sheet grades the wall around the one balanced member.
-    part = !ramp                           ? design_scaffold(phi, d, shape ? &*shape : nullptr)
-           : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp)
-                                          : design_graded_scaffold(members, d, *ramp);
+    const DecimateProgress progress = decimate_progress(cmd);
+    const ShapeFill* fill = shape ? &*shape : nullptr;
+    part = !ramp                          ? design_scaffold(phi, d, fill, progress)
+           : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp, progress)
+                                          : design_graded_scaffold(members, d, *ramp, progress);
   } catch (const ClosedCellError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitFailure;
@@ -547,6 +610,9 @@ int run_scaffold(ScaffoldCommand& cmd) {
     throw UsageError(fmt::format("--porosity: {}", e.what()));
   }
   if (shape) part.report["shape"]["file"] = cmd.shape;
+  part.report["mesh_size"] = mesh_size;
+  part.report["mesh_size"]["grid"] = cmd.params.grid;
+  part.report["mesh_size"]["lattice_spacing"] = d.cell_size / cmd.params.grid;
   if (targets) {
     // The targets recomputed on the part as written (its cell, its morphometry).
     DesignProblem p = targets->problem;
@@ -606,9 +672,24 @@ int run_scaffold(ScaffoldCommand& cmd) {
   nlohmann::json members_about = {{"members", member}, {"seconds", member_seconds}};
   if (!ramp || d.solid == SolidKind::kSheet)
     members_about = member, members_about["seconds"] = member_seconds;
+  std::optional<PartPageMeasures> page;
+  if (!cmd.no_page) {
+    page = measure_part_page(part.mesh);
+    part.report["seconds"].update(part_page_seconds(*page));
+  }
   write_mesh_with_report(part.mesh, part.report, plan,
                          {{"member", members_about}, {"threads", threads},
                           {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
+  if (page) {
+    // From FILE.json as written, so that the page shows the file's numbers.
+    const double seconds =
+        write_part_page(part_page_path(plan.out), part_preview_path(plan.out),
+                        read_json_file(plan.out.string() + ".json"), *page);
+    if (!cmd.quiet)
+      std::cerr << fmt::format("wrote {} and {} in {:.2f} s\n",
+                               part_page_path(plan.out).string(),
+                               part_preview_path(plan.out).string(), seconds);
+  }
   if (!cmd.quiet) {
     const auto& m = r["morphometry"];
     const auto& t = r["topology"];
@@ -774,9 +855,9 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_option("--graded-members", cmd->graded_members,
                   "Members a ramp blends (default: one per 0.1 of porosity, at least 2)");
   app->add_option("--solid", cmd->solid,
-                  "network (the region on one side of the CMC surface at volume fraction 1 - "
-                  "porosity) or sheet (a wall around the alpha = 1/2 surface, its thickness "
-                  "solved for the porosity)")
+                  "network (the region on one side of the CMC surface at solid fraction 1 - "
+                  "porosity) or sheet (a wall around the surface at solid fraction 1/2, its "
+                  "thickness solved for the porosity)")
       ->capture_default_str();
   cmd->cell_size_option =
       app->add_option("--cell-size", cmd->cell_size, "Edge of one unit cell in --units")
@@ -802,10 +883,13 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_flag("--keep-fragments", cmd->keep_fragments,
                 "Keep the pieces the box cuts off the solid");
   app->add_option("--max-triangles", cmd->max_triangles,
-                  "Decimate to at most this many triangles (OpenMesh, keeping the solid closed, "
-                  "manifold, one piece)");
-  app->add_option("--tolerance", cmd->tolerance,
-                  "Decimate as far as the surface moves at most this, in --units");
+                  "Decimate to at most this many triangles (quadric edge collapses keeping the "
+                  "solid closed, manifold, one piece)");
+  cmd->tolerance_option = app->add_option(
+      "--tolerance", cmd->tolerance,
+      fmt::format("Decimate as far as the surface moves at most this, in --units (default: "
+                  "{:g} mm unless --max-triangles is given; 0: not decimated)",
+                  kDefaultChordalToleranceMm));
   app->add_option("--min-feature", cmd->min_feature,
                   "Warn when the thinnest wall or narrowest pore is below this (the printer's "
                   "resolution), in --units");
@@ -841,6 +925,13 @@ CommandFn add_scaffold_command(CLI::App& root) {
   app->add_flag("--strict-min-wall", cmd->strict_min_wall,
                 "With --min-wall: refuse (exit 1, nothing written) instead of warning");
   add_run_options(*app, cmd->params, cmd->strings, false);
+  cmd->grid_option = app->get_option("--grid");
+  app->add_option("--resolution", cmd->resolution,
+                  "Lattice spacing (the printer's voxel) in --units instead of --grid: the "
+                  "member's grid is the smallest accepted one with --cell-size / N <= this");
+  app->add_flag("--no-page", cmd->no_page,
+                "Write no page (FILE.html: the part in 3D, slices, wall and pore distributions, "
+                "the tables) and no preview (FILE.png)");
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress or summary output");
   return {app, [cmd]() -> int { return run_scaffold(*cmd); }};

@@ -5,9 +5,10 @@ usage: plot_scaffold.py PART.stl OUT.png
 
 (a), (b): the part cut by the planes z and x at 0.4 of the box (the binary STL's
 triangles intersected with the plane, drawn as segments; the solid is on one side of them),
-(c): the wall-thickness and pore-size distributions of PART.stl.json (local thickness on the
-unit cell, `morphometry`). Draws what cmcsurf computed; computes nothing of its own beyond
-the plane cuts. Exit code 3 when matplotlib or numpy is missing.
+(c): the wall and pore distributions of PART.stl.json (local thickness on the unit cell,
+`morphometry`; a graded part has one per member, `morphometry.members`, drawn each).
+Draws what cmcsurf computed; computes nothing of its own beyond the plane cuts. Exit code 3
+when matplotlib or numpy is missing.
 """
 import json
 import struct
@@ -53,6 +54,17 @@ def cut(tri, axis, value):
     return np.array(segments), other
 
 
+def distributions(m):
+    """(the cell's morphometry, its name in the legend, line style) for each distribution:
+    the part's one cell, or a graded part's members (their porosity named)."""
+    if "wall_thickness" in m and "pore_size" in m:
+        return [(m, "", "-")]
+    styles = ["-", "--", ":", "-."]
+    return [(c, f" (porosity {c['porosity']:.2f})", styles[i % len(styles)])
+            for i, c in enumerate(m.get("members", []))
+            if "wall_thickness" in c and "pore_size" in c]
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -76,18 +88,24 @@ def main():
         ax.set_title(f"cut at {names[axis]} = {mid:.3g} {units}")
     m = report["morphometry"]
     ax = axes[2]
-    for key, label, color in (("wall_thickness", "wall thickness", "C0"),
-                              ("pore_size", "pore size", "C1")):
-        s = m[key]
-        edges = np.array(s["histogram_edges"])
-        ax.stairs(np.array(s["histogram"]), edges, color=color,
-                  label=f"{label}: mean {s['mean']:.3g}, min {s['min']:.3g} {units}")
+    for cell, name, style in distributions(m):
+        for key, label, color in (("wall_thickness", "wall", "C0"), ("pore_size", "pore", "C1")):
+            s = cell[key]
+            edges = np.array(s["histogram_edges"])
+            ax.stairs(np.array(s["histogram"]), edges, color=color, linestyle=style,
+                      label=f"{label}{name}: mean {s['mean']:.3g}, min {s['min']:.3g} {units}")
     ax.set_xlabel(f"local thickness ({units})")
     ax.set_ylabel("fraction of the phase")
-    ax.legend()
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize="small")
     d = report["design"]
+    if "graded" in report:
+        g = report["graded"]
+        target = f"{g['porosity_from']} to {g['porosity_to']} along {g['axis']}"
+    else:
+        target = d["porosity"]
     fig.suptitle(f"{d['solid']} scaffold: porosity {report['porosity']:.4f} "
-                 f"(target {d['porosity']}), cell {d['cell_size']} {units}, "
+                 f"(target {target}), cell size {d['cell_size']} {units}, "
                  f"specific surface {m['specific_surface']:.3g} 1/{units}")
     fig.tight_layout()
     fig.savefig(out, dpi=90)

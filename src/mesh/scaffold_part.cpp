@@ -92,7 +92,8 @@ namespace {
 // of the mesh as written (with report.seconds of these stages); the morphometry is the
 // caller's. final_level: the level of the part returned.
 ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d, int n,
-                         nlohmann::json sheet, double& final_level) {
+                         nlohmann::json sheet, double& final_level,
+                         const DecimateProgress& progress) {
   ScaffoldPart out;
   nlohmann::json& r = out.report;
   double slope = 0.0;  // d porosity / d level, 0: unknown
@@ -169,7 +170,7 @@ ScaffoldPart finish_part(PartLattice& lat, double level, const ScaffoldDesign& d
   const bool decimate = d.decimate.max_triangles > 0 || d.decimate.tolerance > 0;
   nlohmann::json decimation;
   if (decimate) {
-    Decimated dm = decimate_solid(e.mesh, d.decimate);
+    Decimated dm = decimate_solid(e.mesh, d.decimate, progress);
     decimation = decimated_json(dm, d.decimate, d.units);
     if (!dm.within_budget)
       out.warnings.push_back(fmt::format(
@@ -342,7 +343,8 @@ void warn_min_feature(const nlohmann::json& cells, const ScaffoldDesign& d,
 
 }  // namespace
 
-ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape) {
+ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const ShapeFill* shape,
+                             const DecimateProgress& progress) {
   if (!(d.porosity > 0.0 && d.porosity < 1.0))
     throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", d.porosity));
   if (d.solid != SolidKind::kNetwork && d.solid != SolidKind::kSheet)
@@ -408,7 +410,7 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
   const double sample_seconds = seconds_since(t0);
 
   double final_level = level;
-  ScaffoldPart out = finish_part(lat, level, d, n, std::move(sheet), final_level);
+  ScaffoldPart out = finish_part(lat, level, d, n, std::move(sheet), final_level, progress);
   nlohmann::json& r = out.report;
   // Morphometry on the periodic unit cell (the lattice's own walls and pores).
   nlohmann::json morph = surface_measures(out, lat, d.units);
@@ -431,7 +433,8 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
 }
 
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
-                                    const ScaffoldDesign& d, const PorosityRamp& ramp) {
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp,
+                                    const DecimateProgress& progress) {
   if (d.solid != SolidKind::kNetwork)
     throw std::invalid_argument("a graded scaffold is a network solid");
   if (members.size() < 2) throw std::invalid_argument("a graded scaffold needs two members");
@@ -491,7 +494,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   ScaffoldDesign mean = d;
   mean.porosity = 0.5 * (ramp.from + ramp.to);
   double final_level = 0.0;
-  ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level);
+  ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level, progress);
   nlohmann::json& r = out.report;
   const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
@@ -534,7 +537,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 }
 
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
-                                 const PorosityRamp& ramp) {
+                                 const PorosityRamp& ramp, const DecimateProgress& progress) {
   if (d.solid != SolidKind::kSheet)
     throw std::invalid_argument("a graded sheet is a sheet solid");
   for (double p : {ramp.from, ramp.to})
@@ -584,7 +587,7 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
   ScaffoldPart out = finish_part(lat, final_level, mean, n,
                                  {{"thickness_steiner_from", t_from * d.cell_size},
                                   {"thickness_steiner_to", t_to * d.cell_size}},
-                                 final_level);
+                                 final_level, progress);
   nlohmann::json& r = out.report;
   // The solve's shift of every wall: thickness_q = t_q - 2 (level + t_mean / 2).
   const double shift = -2.0 * (final_level + 0.5 * t_mean);

@@ -57,9 +57,10 @@ struct ShapeFill {
 
 // phi: the member's field (whole grid, ghost >= 1); shape: fill it instead of d.size's box.
 // Throws std::invalid_argument on a design out of range and ClosedCellError on a closed-cell
-// part (nothing to write).
+// part (nothing to write). progress: the decimation's, when there is one.
 ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d,
-                             const ShapeFill* shape = nullptr);
+                             const ShapeFill* shape = nullptr,
+                             const DecimateProgress& progress = {});
 
 // The wall thickness, pore size and throat of the design's unit cell (design_scaffold's
 // `morphometry` keys, in d.units at d.cell_size) without building the part: a network is phase
@@ -81,7 +82,8 @@ struct PorosityRamp {
 // `graded` (the profile per cell along the axis) and per-member morphometry. Throws
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
-                                    const ScaffoldDesign& d, const PorosityRamp& ramp);
+                                    const ScaffoldDesign& d, const PorosityRamp& ramp,
+                                    const DecimateProgress& progress = {});
 
 // A graded sheet: the wall thickness ramps along the axis so that the porosity goes linearly
 // from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all
@@ -89,6 +91,6 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 // report adds `graded` (the profile per cell), `sheet.thickness_from` and `_to`, and the end
 // cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold.
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
-                                 const PorosityRamp& ramp);
+                                 const PorosityRamp& ramp, const DecimateProgress& progress = {});
 
 }  // namespace cmcsurf

@@ -41,11 +41,11 @@ void check_member_topology(const MemberTopology& t, const std::string& what,
                            const std::string& accept) {
   if (!t.changed()) return;
   throw TopologyChangeError(fmt::format(
-      "{}: the {} member at volume fraction {:g} has Euler characteristic {} (genus {}), its "
+      "{}: the {} member at solid fraction {:g} has Euler characteristic {} (genus {}), its "
       "family's (the nodal {} the run starts from) {} (genus {}): the run ended on a member of "
       "another topology (near a topology change of the family, e.g. P's channels pinching "
       "off into plates or balls), not the lattice asked for, so nothing was written. Choose a "
-      "volume fraction (porosity) closer to 1/2, another --surface or other run options "
+      "solid fraction (1 - porosity) closer to 1/2, another --surface or other run options "
       "(--grid, --fast, --epsilon), or {} to use this member anyway",
       what, t.surface, t.volume_fraction, t.member, 1 - t.member, t.surface, t.family,
       1 - t.family, accept));

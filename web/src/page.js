@@ -269,6 +269,15 @@ function sweepPage(viewer, controls) {
   update();
 }
 
+// A printed part (cmcsurf scaffold's FILE.html): the part scaled into the unit cube, coloured
+// by height, with no tiles.
+function partPage(viewer, controls) {
+  viewer.show(geometry(data.part), data.part.origin, 1);
+  el('div', { id: 'part-label' }, controls,
+    `${data.part.triangles} triangles drawn; colour: height, bottom (blue) to top (red)`);
+  statusEl.dataset.shown = 'part';
+}
+
 function main() {
   const canvas = document.getElementById('view');
   const controls = document.getElementById('controls');
@@ -282,6 +291,7 @@ function main() {
     return;
   }
   if (data.kind === 'sweep') sweepPage(viewer, controls);
+  else if (data.kind === 'part') partPage(viewer, controls);
   else runPage(viewer, controls);
   if (!errors.length) {
     statusEl.textContent = '3D view: drag to rotate, scroll to zoom, right-drag to pan';

@@ -1,0 +1,308 @@
+#include "mesh/edge_collapse.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <queue>
+
+namespace cmcsurf {
+
+namespace {
+
+// Symmetric 4x4 quadric: a x^2 + 2 b xy + ... of the plane n.x + d = 0, stored as its upper
+// triangle (xx xy xz xd yy yz yd zz zd dd).
+struct Quadric {
+  std::array<double, 10> q{};
+  double planes = 0.0;  // how many planes were summed
+  static Quadric plane(const Vec3& n, double d) {
+    return {{n[0] * n[0], n[0] * n[1], n[0] * n[2], n[0] * d, n[1] * n[1], n[1] * n[2],
+             n[1] * d, n[2] * n[2], n[2] * d, d * d},
+            1.0};
+  }
+  Quadric& operator+=(const Quadric& o) {
+    for (int i = 0; i < 10; ++i) q[i] += o.q[i];
+    planes += o.planes;
+    return *this;
+  }
+  double operator()(const Vec3& p) const {
+    const double x = p[0], y = p[1], z = p[2];
+    return q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x + q[4] * y * y +
+           2 * q[5] * y * z + 2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
+  }
+  // The minimiser, when the 3x3 part is well conditioned.
+  bool minimum(Vec3& out) const {
+    const double a = q[0], b = q[1], c = q[2], d = q[4], e = q[5], f = q[7];
+    const double det = a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d);
+    const double scale = a + d + f;
+    if (!(std::abs(det) > 1e-6 * scale * scale * scale)) return false;
+    const double rx = -q[3], ry = -q[6], rz = -q[8];
+    // Cramer's rule on the symmetric system.
+    out[0] = (rx * (d * f - e * e) - b * (ry * f - e * rz) + c * (ry * e - d * rz)) / det;
+    out[1] = (a * (ry * f - e * rz) - rx * (b * f - c * e) + c * (b * rz - ry * c)) / det;
+    out[2] = (a * (d * rz - ry * e) - b * (b * rz - ry * c) + rx * (b * e - c * d)) / det;
+    return true;
+  }
+};
+
+Vec3 normal_of(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return cross(sub(b, a), sub(c, a));
+}
+
+double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
+
+struct Candidate {
+  float cost;
+  std::uint32_t a, b;  // b collapses into a
+  std::uint32_t stamp_a, stamp_b;  // the ends as they were when queued
+  bool operator>(const Candidate& o) const { return cost > o.cost; }
+};
+
+class Collapser {
+ public:
+  Collapser(const TriMesh& m, const std::vector<std::uint8_t>& locked, const CollapseParams& p)
+      : p_(p), pos_(m.vertices), tri_(m.triangles) {
+    const std::size_t nv = pos_.size();
+    locked_ = locked.empty() ? std::vector<std::uint8_t>(nv, 0) : locked;
+    quadric_.resize(nv);
+    stamp_.assign(nv, 0);
+    mark_.assign(nv, 0);
+    dead_.assign(tri_.size(), 0);
+    std::vector<std::uint32_t> degree(nv, 0);
+    for (const auto& t : tri_)
+      for (std::uint32_t v : t) ++degree[v];
+    around_.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) around_[v].reserve(degree[v]);
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      const auto& v = tri_[t];
+      for (int c = 0; c < 3; ++c) around_[v[c]].push_back(std::uint32_t(t));
+      const Vec3 n = normal_of(pos_[v[0]], pos_[v[1]], pos_[v[2]]);
+      const double len = length(n);
+      if (!(len > 0)) continue;
+      const Vec3 u{n[0] / len, n[1] / len, n[2] / len};
+      const Quadric q = Quadric::plane(u, -dot(u, pos_[v[0]]));
+      for (int c = 0; c < 3; ++c) quadric_[v[c]] += q;
+    }
+    cos_limit_ = std::cos(p_.max_normal_degrees * std::numbers::pi / 180.0);
+    alive_ = tri_.size();
+    std::vector<Candidate> initial;
+    initial.reserve(tri_.size() * 3 / 2);
+    for (const auto& t : tri_)
+      for (int c = 0; c < 3; ++c)
+        if (t[c] < t[(c + 1) % 3]) push(t[c], t[(c + 1) % 3], &initial);
+    heap_ = decltype(heap_)(std::greater<Candidate>(), std::move(initial));
+  }
+
+  void run(const CollapseProgress& progress) {
+    const double max_cost = p_.max_error * p_.max_error;
+    std::size_t since = 0;
+    while (!heap_.empty()) {
+      if (p_.target_triangles > 0 && alive_ <= p_.target_triangles) break;
+      const Candidate e = heap_.top();
+      heap_.pop();
+      if (stamp_[e.a] != e.stamp_a || stamp_[e.b] != e.stamp_b) continue;  // stale
+      if (double(e.cost) > max_cost) break;
+      Vec3 p;
+      best_position(e.a, e.b, p);  // the same ends give the same position as when queued
+      if (!legal(e.a, e.b, p)) continue;
+      collapse(e.a, e.b, p);
+      if (progress && ++since == (1u << 16)) {
+        since = 0;
+        progress(alive_);
+      }
+    }
+  }
+
+  TriMesh result() const {
+    TriMesh r;
+    std::vector<std::uint32_t> index(pos_.size(), UINT32_MAX);
+    r.triangles.reserve(alive_);
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      if (dead_[t]) continue;
+      std::array<std::uint32_t, 3> out{};
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t v = tri_[t][c];
+        if (index[v] == UINT32_MAX) {
+          index[v] = std::uint32_t(r.vertices.size());
+          r.vertices.push_back(pos_[v]);
+        }
+        out[c] = index[v];
+      }
+      r.triangles.push_back(out);
+    }
+    return r;
+  }
+
+ private:
+  // The mean squared distance to the merged planes of collapsing w into u at its best
+  // position p (u's own when u is locked; the quadric's minimiser when it lies near the
+  // edge; else the better of the ends and the midpoint).
+  double best_position(std::uint32_t u, std::uint32_t w, Vec3& best) const {
+    Quadric q = quadric_[u];
+    q += quadric_[w];
+    const double per_plane = 1.0 / std::max(q.planes, 1.0);
+    best = pos_[u];
+    double cost = q(best);
+    if (locked_[u]) return cost * per_plane;
+    const Vec3 mid{0.5 * (pos_[u][0] + pos_[w][0]), 0.5 * (pos_[u][1] + pos_[w][1]),
+                   0.5 * (pos_[u][2] + pos_[w][2])};
+    Vec3 opt;
+    // Far off the edge the minimiser marks a nearly flat quadric, not a better place.
+    if (q.minimum(opt) && length(sub(opt, mid)) <= length(sub(pos_[u], pos_[w]))) {
+      best = opt;
+      return q(opt) * per_plane;
+    }
+    for (const Vec3& c : {pos_[w], mid})
+      if (const double e = q(c); e < cost) cost = e, best = c;
+    return cost * per_plane;
+  }
+
+  // Queues the collapse of edge (u, w); a locked end is the one kept.
+  void push(std::uint32_t u, std::uint32_t w, std::vector<Candidate>* into = nullptr) {
+    if (locked_[u] && locked_[w]) return;
+    if (locked_[u] == 0 && locked_[w] != 0) std::swap(u, w);
+    Vec3 p;
+    const double cost = best_position(u, w, p);
+    const Candidate c{float(std::max(cost, 0.0)), u, w, stamp_[u], stamp_[w]};
+    if (into) into->push_back(c);
+    else heap_.push(c);
+  }
+
+  bool legal(std::uint32_t a, std::uint32_t b, const Vec3& p) {
+    // The two triangles on the edge, and the link condition: a and b share exactly the two
+    // vertices opposite the edge.
+    std::uint32_t shared = 0, opposite[2] = {0, 0};
+    for (std::uint32_t t : around_[b]) {
+      const auto& v = tri_[t];
+      if (v[0] != a && v[1] != a && v[2] != a) continue;
+      if (shared == 2) return false;
+      for (std::uint32_t x : v)
+        if (x != a && x != b) opposite[shared] = x;
+      ++shared;
+    }
+    if (shared != 2 || opposite[0] == opposite[1]) return false;
+    if (around_[opposite[0]].size() <= 3 || around_[opposite[1]].size() <= 3) return false;
+    if (around_[a].size() + around_[b].size() < 7) return false;  // the result's valence >= 3
+    const std::uint32_t id = next_mark();
+    for (std::uint32_t t : around_[a])
+      for (std::uint32_t x : tri_[t]) mark_[x] = id;
+    int common = 0;
+    for (std::uint32_t t : around_[b])
+      for (std::uint32_t x : tri_[t])
+        if (x != a && x != b && mark_[x] == id) {
+          mark_[x] = id + 1;
+          ++common;
+        }
+    if (common != 2) return false;
+    // The triangles that remain, moved: normals, areas, shapes; with an error bound, the
+    // two old vertices (each within it of the input) stay within it of the new fan.
+    const bool bounded = std::isfinite(p_.max_error);
+    const double bound2 = p_.max_error * p_.max_error;
+    double near_a = bounded ? std::numeric_limits<double>::infinity() : 0.0, near_b = near_a;
+    for (const std::uint32_t moved : {a, b})
+      for (std::uint32_t t : around_[moved]) {
+        const auto& v = tri_[t];
+        const bool on_edge = (v[0] == a || v[1] == a || v[2] == a) &&
+                             (v[0] == b || v[1] == b || v[2] == b);
+        if (on_edge) continue;
+        Vec3 q[3];
+        for (int c = 0; c < 3; ++c) q[c] = v[c] == moved ? p : pos_[v[c]];
+        if (bounded) {
+          near_a = std::min(near_a, point_triangle_distance2(pos_[a], q[0], q[1], q[2]));
+          near_b = std::min(near_b, point_triangle_distance2(pos_[b], q[0], q[1], q[2]));
+        }
+        const Vec3 n0 = normal_of(pos_[v[0]], pos_[v[1]], pos_[v[2]]);
+        const Vec3 n1 = normal_of(q[0], q[1], q[2]);
+        const double l0 = length(n0), l1 = length(n1);
+        if (!(l1 > 1e-12 * (l0 + dot(sub(q[1], q[0]), sub(q[1], q[0]))))) return false;
+        if (l0 > 0 && dot(n0, n1) < cos_limit_ * l0 * l1) return false;
+        const double aspect = triangle_aspect(q[0], q[1], q[2]);
+        if (aspect > p_.max_aspect &&
+            aspect > triangle_aspect(pos_[v[0]], pos_[v[1]], pos_[v[2]]))
+          return false;
+      }
+    return near_a <= bound2 && near_b <= bound2;
+  }
+
+  void collapse(std::uint32_t a, std::uint32_t b, const Vec3& p) {
+    std::vector<std::uint32_t>& ta = around_[a];
+    std::uint32_t opposite[2] = {0, 0};
+    int k = 0;
+    for (std::uint32_t t : around_[b]) {
+      auto& v = tri_[t];
+      if (v[0] == a || v[1] == a || v[2] == a) {
+        dead_[t] = 1;
+        for (std::uint32_t x : v)
+          if (x != a && x != b) opposite[k] = x;
+        ++k;
+      } else {
+        for (auto& x : v)
+          if (x == b) x = a;
+        ta.push_back(t);
+      }
+    }
+    auto drop_dead = [&](std::vector<std::uint32_t>& list) {
+      list.erase(std::remove_if(list.begin(), list.end(),
+                                [&](std::uint32_t t) { return dead_[t] != 0; }),
+                 list.end());
+    };
+    drop_dead(ta);
+    drop_dead(around_[opposite[0]]);
+    drop_dead(around_[opposite[1]]);
+    around_[b].clear();
+    around_[b].shrink_to_fit();
+    alive_ -= 2;
+    pos_[a] = p;
+    quadric_[a] += quadric_[b];
+    ++stamp_[a];
+    ++stamp_[b];
+    const std::uint32_t id = next_mark();
+    mark_[a] = id;
+    for (std::uint32_t t : ta)
+      for (std::uint32_t x : tri_[t])
+        if (mark_[x] != id) {
+          mark_[x] = id;
+          push(a, x);
+        }
+  }
+
+  std::uint32_t next_mark() {
+    mark_id_ += 2;
+    if (mark_id_ < 2) {  // wrapped
+      std::fill(mark_.begin(), mark_.end(), 0);
+      mark_id_ = 2;
+    }
+    return mark_id_;
+  }
+
+  CollapseParams p_;
+  std::vector<Vec3> pos_;
+  std::vector<std::array<std::uint32_t, 3>> tri_;
+  std::vector<std::uint8_t> locked_, dead_;
+  std::vector<Quadric> quadric_;
+  std::vector<std::uint32_t> stamp_, mark_;
+  std::uint32_t mark_id_ = 0;
+  std::vector<std::vector<std::uint32_t>> around_;  // the live triangles at each vertex
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
+  std::size_t alive_ = 0;
+  double cos_limit_ = 0.5;
+};
+
+}  // namespace
+
+double triangle_aspect(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double ab = length(sub(b, a)), bc = length(sub(c, b)), ca = length(sub(a, c));
+  const double area = 0.5 * length(normal_of(a, b, c));
+  if (!(area > 0)) return std::numeric_limits<double>::infinity();
+  const double inradius = 2.0 * area / (ab + bc + ca);
+  return std::max({ab, bc, ca}) / (2.0 * std::sqrt(3.0) * inradius);
+}
+
+TriMesh collapse_edges(const TriMesh& m, const std::vector<std::uint8_t>& locked,
+                       const CollapseParams& p, const CollapseProgress& progress) {
+  Collapser c(m, locked, p);
+  c.run(progress);
+  return c.result();
+}
+
+}  // namespace cmcsurf
