@@ -91,7 +91,7 @@ void write_inp(const TetMesh& m, std::ostream& os, const std::string& title) {
   fmt::format_to(out,
                  "** Periodic pairs: for each translation, node sets S_<label> and M_<label>\n"
                  "** list slave i and master i in the same order (UNSORTED), x_S = x_M + "
-                 "translation,\n** ready for *EQUATION with node sets (docs/meshing.md).\n");
+                 "translation,\n** ready for *EQUATION with node sets (docs/volume_mesh.md).\n");
   fmt::format_to(out, "*NODE, NSET=ALL_NODES\n");
   for (std::size_t i = 0; i < m.nodes.size(); ++i)
     fmt::format_to(out, "{}, {:.17g}, {:.17g}, {:.17g}\n", i + 1, m.nodes[i][0], m.nodes[i][1],

@@ -2,7 +2,7 @@
 // the periodic node pairs in the form that code reads: gmsh MSH 4.1 ASCII with $Periodic,
 // Abaqus .inp with matched node sets for *EQUATION, VTU and XDMF (inline XML data, no HDF5)
 // with a periodic_master node array. Each file is written to a temporary name and renamed.
-// How to use the pairs: docs/meshing.md, "Periodic volume meshes".
+// How to use the pairs: docs/volume_mesh.md.
 #pragma once
 
 #include <filesystem>

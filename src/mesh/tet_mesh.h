@@ -1,7 +1,7 @@
 // Periodic tetrahedral meshes of a solid: the mesh on the 3-torus (what a periodic mesher
 // returns), its unfolding into a block of whole cells whose boundary nodes are paired with their
 // images one period away, and the checks and quality measures of the result. See
-// docs/meshing.md, "Periodic volume meshes".
+// docs/volume_mesh.md.
 #pragma once
 
 #include <array>
@@ -49,9 +49,8 @@ struct TetMesh {
 TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>& tiles,
                              double cell_size);
 
-// Measures and checks of a TetMesh (the keys of FILE.json's "mesh", "quality", "edges",
-// "checks" and "pairing" objects: docs/meshing.md). size_min, size_max: the edge bounds asked
-// for (0: none), counted against.
+// Measures and checks of a TetMesh (FILE.json's "quality", "edge_length" and "checks":
+// docs/volume_mesh.md). size_min, size_max: the edge bounds asked for (0: none), counted.
 struct TetMeshStats {
   std::size_t nodes = 0, tets = 0, edges = 0;
   double volume = 0.0;

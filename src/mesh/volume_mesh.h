@@ -1,7 +1,7 @@
 // Periodic tetrahedral meshes of the network or sheet solid of a CMC field, for a user's own
 // finite-element code: the options as a user gives them (checked here, for the command line and
 // Python alike), the mesh (mesh/periodic_mesher.h, unfolded by mesh/tet_mesh.h) and its report.
-// See docs/meshing.md, "Periodic volume meshes".
+// See docs/volume_mesh.md.
 #pragma once
 
 #include <array>
@@ -56,7 +56,7 @@ VolumeMeshParams volume_mesh_params(const VolumeMeshOptions& o, int n);
 
 struct VolumeMesh {
   TetMesh mesh;                // output units
-  nlohmann::json report;       // FILE.json's keys (docs/meshing.md)
+  nlohmann::json report;       // FILE.json's keys (docs/volume_mesh.md)
   double solid_fraction = 0;   // of the field's solid (the voxel fractions' mean)
   double thickness = 0;        // sheet: the wall thickness meshed, unit cells
 };
