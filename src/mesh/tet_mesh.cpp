@@ -54,14 +54,22 @@ TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>
                              double cell_size) {
   if (torus.tets.size() != torus.offsets.size())
     throw std::invalid_argument("unfold_periodic_tets: one offset set per tet");
+  for (int c = 0; c < 3; ++c)
+    if (tiles[c] < 1 || tiles[c] > 100)
+      throw std::invalid_argument("unfold_periodic_tets: tiles must be 1..100 per axis");
   TetMesh m;
   for (int c = 0; c < 3; ++c) m.period[c] = tiles[c] * cell_size;
-  // Each torus vertex's images in use and their node numbers.
+  // Each torus vertex's images in use and their node numbers; found by a hash of (vertex,
+  // image), since a vertex has hundreds of images in a large tiling.
   std::vector<std::vector<std::pair<Image, std::int64_t>>> images(torus.vertices.size());
+  std::unordered_map<std::uint64_t, std::int64_t> node_ids;
   auto node_of = [&](std::int32_t v, const Image& w) {
-    for (const auto& [img, id] : images[std::size_t(v)])
-      if (img == w) return id;
-    const std::int64_t id = std::int64_t(m.nodes.size());
+    // 8 bits per image component (a tet's corners lie within a period or two of the block).
+    std::uint64_t key = std::uint64_t(v);
+    for (int a = 0; a < 3; ++a) key = (key << 8) | (std::uint64_t(w[a] + 128) & 0xff);
+    const auto [it, fresh] = node_ids.try_emplace(key, std::int64_t(m.nodes.size()));
+    if (!fresh) return it->second;
+    const std::int64_t id = it->second;
     const Vec3& p = torus.vertices[std::size_t(v)];
     m.nodes.push_back({(p[0] + w[0]) * cell_size, (p[1] + w[1]) * cell_size,
                        (p[2] + w[2]) * cell_size});
@@ -100,17 +108,20 @@ TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>
       d += std::max(0.0, -m.nodes[id][a]) + std::max(0.0, m.nodes[id][a] - m.period[a]);
     return d;
   };
-  for (const auto& list : images) {
-    std::vector<char> done(list.size(), 0);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      if (done[i]) continue;
+  auto wrapped = [&](const Image& w) {
+    Image r;
+    for (int a = 0; a < 3; ++a) r[a] = ((w[a] % tiles[a]) + tiles[a]) % tiles[a];
+    return r;
+  };
+  for (auto& list : images) {
+    // Sorted by the image modulo the block, so that each point's images are adjacent.
+    std::sort(list.begin(), list.end(), [&](const auto& x, const auto& y) {
+      return std::pair(wrapped(x.first), x.first) < std::pair(wrapped(y.first), y.first);
+    });
+    for (std::size_t i = 0; i < list.size();) {
       std::vector<std::size_t> group;
-      for (std::size_t j = i; j < list.size(); ++j) {
-        bool same = true;
-        for (int a = 0; a < 3; ++a)
-          same = same && (list[j].first[a] - list[i].first[a]) % tiles[a] == 0;
-        if (same) group.push_back(j), done[j] = 1;
-      }
+      const Image key = wrapped(list[i].first);
+      while (i < list.size() && wrapped(list[i].first) == key) group.push_back(i++);
       if (group.size() < 2) continue;
       const std::size_t master = *std::min_element(
           group.begin(), group.end(), [&](std::size_t a, std::size_t b) {

@@ -43,8 +43,8 @@ struct TetMesh {
   std::size_t surface_faces = 0;
 };
 
-// Places each torus tet where its centroid lies in [0, 1)^3, copies it into every tile and
-// merges the corners that coincide; scales by cell_size. Each image of a torus vertex that is
+// Places each torus tet where its centroid lies in [0, 1)^3, copies it into every tile (at most
+// 100 per axis) and merges the corners that coincide; scales by cell_size. Each image of a torus vertex that is
 // not the first (the one nearest the block) becomes a slave of it.
 TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>& tiles,
                              double cell_size);
