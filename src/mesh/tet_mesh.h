@@ -44,8 +44,8 @@ struct TetMesh {
 };
 
 // Places each torus tet where its centroid lies in [0, 1)^3, copies it into every tile (at most
-// 100 per axis) and merges the corners that coincide; scales by cell_size. Each image of a torus vertex that is
-// not the first (the one nearest the block) becomes a slave of it.
+// 100 per axis) and merges the corners that coincide; scales by cell_size. Each image of a
+// torus vertex that is not the first (the one nearest the block) becomes a slave of it.
 TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>& tiles,
                              double cell_size);
 
