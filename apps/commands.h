@@ -19,5 +19,6 @@ CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp
 CommandFn add_scaffold_command(CLI::App& root);  // apps/cmd_scaffold.cpp
 CommandFn add_properties_command(CLI::App& root);  // apps/cmd_properties.cpp
 CommandFn add_scattering_command(CLI::App& root);  // apps/cmd_scattering.cpp
+CommandFn add_volume_mesh_command(CLI::App& root);  // apps/cmd_volume_mesh.cpp
 
 }  // namespace cmcsurf::cli

@@ -18,7 +18,10 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           python3-setuptools python3-wheel python3-pip python3-venv
           # Pictures and report.html (docs/report.md): stb (PNG, TrueType), the font, and npm
           # to bundle three.js at build time (a nodejs that brings its own npm is kept).
-          libstb-dev fonts-dejavu-core)
+          libstb-dev fonts-dejavu-core
+          # Periodic tetrahedral meshes (volume-mesh, docs/meshing.md): CGAL's periodic mesher,
+          # Eigen for the tests' P1 solver, meshio and gmsh to read the files back in the tests.
+          libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev python3-meshio python3-h5py gmsh)
 command -v npm >/dev/null || packages+=(nodejs npm)
 # Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti, and
 # chromium, the headless browser that opens report.html).

@@ -33,6 +33,7 @@ __all__ = [
     "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
     "relax", "run", "scattering", "surfaces", "sweep", "__version__",
 ]
+__all__ += ["volume_mesh"]
 
 __version__: str = _cmcsurf.version()
 
@@ -354,6 +355,41 @@ def mesh(
                "keep_fragments": keep_fragments,
                "accept_topology_change": accept_topology_change}
     return _cmcsurf.mesh(source, options, threads)
+
+
+def volume_mesh(
+    source: Union[Result, Any],
+    out: str,
+    solid: str = "network",
+    *,
+    porosity: Optional[float] = None,
+    thickness: Optional[float] = None,
+    tile: Union[int, Tuple[int, int, int]] = (1, 1, 1),
+    cell_size: float = 1.0,
+    units: str = "mm",
+    size: Optional[float] = None,
+    size_min: Optional[float] = None,
+    size_max: Optional[float] = None,
+    facet_distance: Optional[float] = None,
+    format: str = "",
+    threads: int = 0,
+) -> Dict[str, Any]:
+    """A periodic tetrahedral mesh of the network or sheet solid of a :class:`Result` or an
+    (N, N, N) field, written to ``out`` (.msh/.inp/.vtu/.xdmf, or ``format``) with out.json, as
+    ``cmcsurf volume-mesh`` (docs/volume_mesh.md): the nodes on the periodic cut are paired
+    with their images one period away. Options and ranges as the command's; returns the dict
+    of out.json. ValueError names a bad option.
+    """
+    if isinstance(tile, (int, np.integer)) and not isinstance(tile, bool):
+        tile_spec = str(int(tile))
+    elif isinstance(tile, (tuple, list)) and len(tile) == 3:
+        tile_spec = "x".join(str(int(t)) for t in tile)
+    else:
+        raise TypeError(f"tile: got {tile!r}; accepted: an int A or three ints (A, B, C)")
+    options = {"solid": solid, "porosity": porosity, "thickness": thickness, "tile": tile_spec,
+               "cell_size": cell_size, "units": units, "size": size, "size_min": size_min,
+               "size_max": size_max, "facet_distance": facet_distance, "format": format}
+    return _cmcsurf.volume_mesh(source, str(out), options, threads)
 
 
 def properties(

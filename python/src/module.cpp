@@ -32,6 +32,7 @@
 #include "common/wall_clock.h"
 #include "cahn_hilliard/time_step.h"
 #include "io/mesh_output.h"
+#include "io/tet_mesh_writers.h"
 #include "io/png.h"
 #include "io/output_folder.h"
 #include "pipeline/properties_stage.h"
@@ -40,6 +41,7 @@
 #include "io/run_report.h"
 #include "measure/sharp_volume.h"
 #include "mesh/scaffold.h"
+#include "mesh/volume_mesh.h"
 #include "multigrid/fas.h"
 #include "pipeline/cmc.h"
 #include "pipeline/member_topology.h"
@@ -893,6 +895,64 @@ std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handl
   return out;
 }
 
+// cmcsurf volume-mesh of a Result or an (N, N, N) field (mesh/volume_mesh.h): writes `out`
+// and out.json as the command does and returns the report. options: solid, porosity,
+// thickness, tile, cell_size, units, size, size_min, size_max, facet_distance, format (None:
+// not given).
+py::object volume_mesh(py::handle source, const std::string& out, const py::dict& options,
+                       py::handle threads) {
+  std::optional<Field> owned;
+  const Field* phi = nullptr;
+  std::string from;
+  if (py::isinstance<Result>(source)) {
+    const Result& r = py::cast<Result&>(source);
+    phi = &r.result.phi;
+    from = fmt::format("cmcsurf.Result: {}, grid {}", r.params.surface, r.params.grid);
+  } else {
+    owned = array_to_field(source, "phi");
+    phi = &*owned;
+    from = fmt::format("array of shape ({n}, {n}, {n})", fmt::arg("n", phi->n()));
+  }
+  VolumeMeshOptions o;
+  std::string format;
+  for (const auto& [k, v] : options) {
+    const std::string key = py::cast<std::string>(k);
+    if (v.is_none()) continue;
+    if (key == "solid") o.solid = string_option(v, key);
+    else if (key == "tile") o.tile = string_option(v, key);
+    else if (key == "units") o.units = string_option(v, key);
+    else if (key == "format") format = string_option(v, key);
+    else if (key == "porosity") o.porosity = real_option(v, key);
+    else if (key == "thickness") o.thickness = real_option(v, key);
+    else if (key == "cell_size") o.cell_size = real_option(v, key);
+    else if (key == "size") o.size = real_option(v, key);
+    else if (key == "size_min") o.size_min = real_option(v, key);
+    else if (key == "size_max") o.size_max = real_option(v, key);
+    else if (key == "facet_distance") o.facet_distance = real_option(v, key);
+    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+  }
+  TetMeshFormat f;
+  try {
+    f = tet_mesh_format(format, out);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(fmt::format("format: {}", e.what()));
+  }
+  const VolumeMeshParams p = volume_mesh_params(o, phi->n());  // OptionError -> ValueError
+  ThreadScope scope(threads);
+  nlohmann::json report;
+  {
+    py::gil_scoped_release release;
+    const VolumeMesh vm = build_volume_mesh(*phi, p);
+    report = vm.report;
+    report["source"] = from;
+    write_tet_mesh_with_report(vm.mesh, f, out,
+                               fmt::format("cmcsurf.volume_mesh: {} solid of {}",
+                                           solid_kind_name(p.solid), from),
+                               report);
+  }
+  return to_python(report);
+}
+
 // cmcsurf properties of a Result or an (N, N, N) field (pipeline/properties_stage.h): the
 // dictionary of FILE.json. options: solid, phase, porosity, thickness, youngs_modulus_gpa,
 // poisson_ratio, only (list), compare_nodal, grid_check, tolerance, cell_size, units, surface,
@@ -1199,6 +1259,8 @@ PYBIND11_MODULE(_cmcsurf, m) {
         py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("mesh", &mesh, py::arg("source"), py::arg("options"), py::arg("threads"));
   m.def("properties", &properties, py::arg("source"), py::arg("options"), py::arg("threads"));
+  m.def("volume_mesh", &volume_mesh, py::arg("source"), py::arg("out"), py::arg("options"),
+        py::arg("threads"));
   m.def("check_properties_stage", &check_properties_stage, py::arg("options"),
         py::arg("surface"), py::arg("grid"));
   m.def("properties_stage", &properties_stage, py::arg("results"), py::arg("options"),

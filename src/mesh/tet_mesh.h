@@ -1,0 +1,77 @@
+// Periodic tetrahedral meshes of a solid: the mesh on the 3-torus (what a periodic mesher
+// returns), its unfolding into a block of whole cells whose boundary nodes are paired with their
+// images one period away, and the checks and quality measures of the result. See
+// docs/volume_mesh.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "mesh/tri_mesh.h"
+
+namespace cmcsurf {
+
+// Tetrahedra on the unit 3-torus: corner c of tet t is vertices[tets[t][c]] + offsets[t][c]
+// (whole periods). Positively oriented once the offsets are applied.
+struct PeriodicTets {
+  std::vector<Vec3> vertices;  // canonical positions in [0, 1)^3
+  std::vector<std::array<std::int32_t, 4>> tets;
+  std::vector<std::array<std::array<std::int8_t, 3>, 4>> offsets;
+};
+
+// Node `slave` is node `master` moved by `translation` (output units): the pair a periodic
+// boundary condition ties (u_slave = u_master + E translation).
+struct PeriodicPair {
+  std::int64_t slave = 0, master = 0;
+  Vec3 translation{0, 0, 0};
+};
+
+// A tetrahedral mesh of tiles[0] x tiles[1] x tiles[2] cells, output units. Its outer boundary
+// is the solid's surface plus the periodic cut: faces that come in pairs one block period apart,
+// whose nodes are listed in `pairs`. The block is a fundamental domain of the periodic solid,
+// not the box cut flat: a tetrahedron lies where its centroid falls in the box, so the cut
+// faces stay within about one element of the box faces.
+struct TetMesh {
+  std::vector<Vec3> nodes;
+  std::vector<std::array<std::int64_t, 4>> tets;  // positively oriented
+  std::vector<PeriodicPair> pairs;                // one per slave node
+  Vec3 period{0, 0, 0};                           // the block's size along x, y, z
+  // The torus mesh's boundary faces times the cells: the solid's surface in the block.
+  std::size_t surface_faces = 0;
+};
+
+// Places each torus tet where its centroid lies in [0, 1)^3, copies it into every tile (at most
+// 100 per axis) and merges the corners that coincide; scales by cell_size. Each image of a
+// torus vertex that is not the first (the one nearest the block) becomes a slave of it.
+TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>& tiles,
+                             double cell_size);
+
+// Measures and checks of a TetMesh (FILE.json's "quality", "edge_length" and "checks":
+// docs/volume_mesh.md). size_min, size_max: the edge bounds asked for (0: none), counted.
+struct TetMeshStats {
+  std::size_t nodes = 0, tets = 0, edges = 0;
+  double volume = 0.0;
+  std::size_t inverted = 0, degenerate = 0;  // signed volume < 0; |volume| < 1e-12 h^3
+  std::size_t components = 0;           // in the block, joined through shared nodes
+  std::size_t components_periodic = 0;  // the same with paired nodes joined
+  std::size_t surface_faces = 0;             // the solid's boundary
+  std::size_t periodic_faces = 0;            // the cut, matched in pairs one period apart
+  std::size_t unmatched_faces = 0;           // boundary faces neither of the above
+  std::size_t unpaired_nodes = 0;            // on a periodic face but in no pair
+  double pair_mismatch = 0.0;  // max |x_slave - x_master - translation| / max period
+  double min_dihedral_deg = 0.0, max_dihedral_deg = 0.0;
+  double max_radius_edge = 0.0, mean_radius_edge = 0.0;  // circumradius / shortest edge
+  std::array<std::size_t, 18> dihedral_histogram{};      // each tet's smallest angle, 10 deg
+  double min_edge = 0.0, max_edge = 0.0, mean_edge = 0.0;
+  std::size_t edges_below_min = 0, edges_above_max = 0;
+};
+TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min = 0.0, double size_max = 0.0);
+nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units);
+
+// Signed volume of the tet (a, b, c, d): positive when (b - a, c - a, d - a) is right-handed.
+double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+}  // namespace cmcsurf

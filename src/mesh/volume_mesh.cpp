@@ -1,0 +1,201 @@
+#include "mesh/volume_mesh.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "common/wall_clock.h"
+#include "io/mesh_output.h"
+#include "measure/sharp_volume.h"
+#include "pipeline/run_options.h"
+#include "properties/voxel_solid.h"
+
+namespace cmcsurf {
+
+VolumeMeshParams volume_mesh_params(const VolumeMeshOptions& o, int n) {
+  if (o.solid != "network" && o.solid != "sheet")
+    throw OptionError(fmt::format("--solid: got '{}'; accepted: network|sheet", o.solid));
+  const bool sheet = o.solid == "sheet";
+  const bool has_porosity = std::isfinite(o.porosity);
+  if (has_porosity && !sheet)
+    throw OptionError("--porosity: only with --solid sheet (a network's porosity is the field's)");
+  if (has_porosity && o.thickness != 0.0)
+    throw OptionError("--porosity: give --porosity or --thickness, not both");
+  if (has_porosity && !(o.porosity > 0.0 && o.porosity < 1.0))
+    throw OptionError(fmt::format("--porosity: got {}; accepted: 0 < P < 1", o.porosity));
+  if (sheet && !has_porosity && o.thickness == 0.0)
+    throw OptionError("--thickness: --solid sheet needs --thickness T or --porosity P");
+  // Tiles, cell size, units and the thickness's range as `cmcsurf mesh` checks them.
+  MeshOutputOptions m;
+  m.tile = o.tile;
+  m.cell_size = o.cell_size;
+  m.units = o.units;
+  m.solid = has_porosity ? "network" : o.solid;  // no thickness to check yet
+  m.thickness = has_porosity ? 0.0 : o.thickness;
+  const ScaffoldParams s = scaffold_params(m, n);
+  VolumeMeshParams p;
+  p.solid = sheet ? SolidKind::kSheet : SolidKind::kNetwork;
+  p.porosity = o.porosity;
+  p.thickness = sheet && !has_porosity ? o.thickness / o.cell_size : 0.0;
+  p.tiles = s.tiles;
+  for (int c = 0; c < 3; ++c)
+    if (p.tiles[c] > kMaxVolumeMeshTiles)
+      throw OptionError(fmt::format("--tile: got '{}'; accepted for volume meshes: 1..{} per "
+                                    "axis (each tile copies the cell's tets)",
+                                    o.tile, kMaxVolumeMeshTiles));
+  p.cell_size = s.cell_size;
+  p.units = s.units;
+  // Sizes: output units in, unit cells inside. Below a tenth of a grid spacing the mesh
+  // resolves nothing the field has; above a quarter cell it no longer holds the solid's arms.
+  const double L = o.cell_size, lo = 0.1 * L / n, hi = 0.25 * L;
+  auto check_size = [&](const char* name, double v) {
+    if (!(v >= lo && v <= hi))
+      throw OptionError(fmt::format("--{}: got {}; accepted: {:.6g} .. {:.6g} {} (a tenth of "
+                                    "the N = {} grid spacing to a quarter of the cell)",
+                                    name, v, lo, hi, o.units, n));
+  };
+  auto given = [](double v) { return !std::isnan(v); };
+  if (given(o.size) && (given(o.size_max) || given(o.size_min)))
+    throw OptionError("--size: give --size or --size-min/--size-max, not both");
+  if (given(o.size)) check_size("size", o.size), p.size_max = o.size / L;
+  if (given(o.size_max)) check_size("size-max", o.size_max), p.size_max = o.size_max / L;
+  if (given(o.size_min)) {
+    check_size("size-min", o.size_min);
+    p.size_min = o.size_min / L;
+    if (!(p.size_min < p.size_max))
+      throw OptionError(fmt::format("--size-min: got {}; accepted: below the longest edge {} {}",
+                                    o.size_min, p.size_max * L, o.units));
+  }
+  p.facet_distance = p.size_max * kDefaultFacetDistanceShare;
+  if (given(o.facet_distance)) {
+    const double flo = 1e-4 * L, fhi = p.size_max * L;
+    if (!(o.facet_distance >= flo && o.facet_distance <= fhi))
+      throw OptionError(fmt::format("--facet-distance: got {}; accepted: {:.6g} .. {:.6g} {} "
+                                    "(1e-4 cell to the longest edge)",
+                                    o.facet_distance, flo, fhi, o.units));
+    p.facet_distance = o.facet_distance / L;
+  }
+  return p;
+}
+
+SolidLevelSet solid_level_set(const Field& phi, SolidKind solid, double thickness) {
+  SolidLevelSet s;
+  if (solid == SolidKind::kNetwork) {
+    s.g = Field::like(phi, 1);
+    curvature_corrected(phi, s.g);  // as cmc_voxel_solid: the run's sharp volume fraction
+    s.level = 0.5;
+    return s;
+  }
+  const Field d = signed_distance(phi, 0.5 * thickness + 3.0 * phi.h());
+  s.g = Field::like(d, 1);
+  for_each_cell(d, [&](int i, int j, int k) { s.g(i, j, k) = -std::abs(d(i, j, k)); });
+  s.g.exchange_halo();
+  s.level = -0.5 * thickness;
+  return s;
+}
+
+VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
+  if (!periodic_mesher_available())
+    throw std::runtime_error(
+        "volume-mesh: this cmcsurf was built without CGAL (Debian libcgal-dev libgmp-dev "
+        "libmpfr-dev); install them and reconfigure (scripts/setup.sh)");
+  VolumeMesh out;
+  const auto t0 = WallClock::now();
+  // The solid as properties/voxel_solid.h sees it: its volume is the reference. A sheet of
+  // given thickness takes its voxel fractions from the level set below (the same distance
+  // field, computed once: it is the slow part at 64^3).
+  const bool sheet_of_thickness = p.solid == SolidKind::kSheet && std::isnan(p.porosity);
+  out.thickness = p.thickness;
+  if (!sheet_of_thickness) {
+    SolidSpec spec;
+    spec.kind = p.solid;
+    spec.porosity = p.porosity;
+    const VoxelSolid voxels = cmc_voxel_solid(phi, spec);
+    out.solid_fraction = voxels.solid_fraction;
+    out.thickness = voxels.thickness;
+  }
+  const SolidLevelSet ls = solid_level_set(phi, p.solid, out.thickness);
+  if (sheet_of_thickness) {
+    Field fraction(phi.n(), 0);
+    dual_cell_fractions(ls.g, ls.level, fraction);
+    double sum = 0.0;
+    for_each_cell(fraction, [&](int i, int j, int k) { sum += fraction(i, j, k); });
+    out.solid_fraction = sum / fraction.global_cells();
+  }
+  const double level_set_seconds = seconds_since(t0);
+
+  // CGAL's cell_size bounds the circumradius: an edge, a chord of the circumsphere, is at most
+  // twice that. facet_size bounds the surface Delaunay balls the same way.
+  PeriodicMeshCriteria c;
+  c.cell_radius = 0.5 * p.size_max;
+  c.facet_size = 0.5 * p.size_max;
+  c.facet_distance = p.facet_distance;
+  const auto t1 = WallClock::now();
+  const PeriodicTets torus = mesh_periodic_solid(ls.g, ls.level, c);
+  const double mesh_seconds = seconds_since(t1);
+  const auto t2 = WallClock::now();
+  out.mesh = unfold_periodic_tets(torus, p.tiles, p.cell_size);
+  const double unfold_seconds = seconds_since(t2);
+  const auto t3 = WallClock::now();
+  const double L = p.cell_size;
+  const TetMeshStats s = analyze_tet_mesh(out.mesh, p.size_min * L, p.size_max * L);
+  const double analyze_seconds = seconds_since(t3);
+
+  nlohmann::json& r = out.report;
+  r = tet_mesh_stats_json(s, p.units);
+  const int cells = p.tiles[0] * p.tiles[1] * p.tiles[2];
+  const double volume_field = out.solid_fraction * cells * L * L * L;
+  r["solid"] = solid_kind_name(p.solid);
+  r["tiles"] = p.tiles;
+  r["cell_size"] = L;
+  r["units"] = p.units;
+  r["grid"] = phi.n();
+  r["volume_field"] = volume_field;
+  r["volume_relative_error"] = (s.volume - volume_field) / volume_field;
+  r["porosity_field"] = 1.0 - out.solid_fraction;
+  if (p.solid == SolidKind::kSheet)
+    r["thickness"] = out.thickness * L;
+  r["domain"] =
+      "a fundamental domain of the periodic solid: each tet where its centroid falls in the "
+      "box; the cut faces come in pairs one period apart (pairing)";
+  r["criteria"] = {{"size_max", p.size_max * L},
+                   {"size_min", p.size_min * L},
+                   {"facet_distance", p.facet_distance * L},
+                   {"cell_circumradius_max", c.cell_radius * L},
+                   {"facet_size", c.facet_size * L},
+                   {"facet_angle_deg", c.facet_angle},
+                   {"cell_radius_edge_ratio", c.radius_edge},
+                   {"units", p.units},
+                   {"size_min_note", "CGAL 5.5 has no lower size bound: counted, not enforced"}};
+  r["torus"] = {{"vertices", torus.vertices.size()}, {"tets", torus.tets.size()}};
+  // The pairs by translation, in block periods.
+  std::map<std::array<long, 3>, std::size_t> classes;
+  for (const auto& pr : out.mesh.pairs) {
+    std::array<long, 3> k;
+    for (int a = 0; a < 3; ++a) k[a] = std::lround(pr.translation[a] / out.mesh.period[a]);
+    ++classes[k];
+  }
+  nlohmann::json translations = nlohmann::json::array();
+  for (const auto& [k, count] : classes)
+    translations.push_back({{"periods", k},
+                            {"translation", {k[0] * out.mesh.period[0], k[1] * out.mesh.period[1],
+                                             k[2] * out.mesh.period[2]}},
+                            {"pairs", count}});
+  r["pairing"] = {{"pairs", out.mesh.pairs.size()},
+                  {"period", out.mesh.period},
+                  {"translations", translations},
+                  {"max_mismatch", s.pair_mismatch},
+                  {"max_mismatch_note", "|x_slave - x_master - translation| / largest period"}};
+  r["mesher"] = periodic_mesher_name();
+  r["seconds"] = {{"level_set", level_set_seconds},
+                  {"mesh", mesh_seconds},
+                  {"unfold", unfold_seconds},
+                  {"analyze", analyze_seconds}};
+  r["mesh_seconds"] = mesh_seconds;
+  return out;
+}
+
+}  // namespace cmcsurf

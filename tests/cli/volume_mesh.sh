@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# cmcsurf volume-mesh: bad options (exit 2, nothing written), the four formats with their
+# FILE.json checks, and the files read back by meshio and gmsh. Exit 77 (skipped) where this
+# build has no CGAL or meshio is missing.
+source "$(dirname "$0")/usage.bash" "$1"
+export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
+r="$work/run"
+"$bin" run --surface G --grid 24 --max-steps 3 --volume-fraction 0.5 --quiet --out "$r" ||
+  { echo "FAIL: run"; exit 1; }
+"$bin" volume-mesh --from "$r" --size 0.2 --out "$work/probe.msh" --quiet 2>"$work/stderr"
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "without CGAL" "$work/stderr"; then
+  echo "SKIP: this cmcsurf was built without CGAL"; exit 77
+fi
+[ "$rc" -eq 0 ] || { echo "FAIL: volume-mesh exited $rc"; cat "$work/stderr"; exit 1; }
+
+expect_usage() { check_usage out.msh "$@"; }  # <option> <args...>
+vm() { echo volume-mesh --from "$r"; }
+expect_usage --from           volume-mesh --from "$work/missing"
+expect_usage --solid          $(vm) --solid foam
+expect_usage --solid          $(vm) --solid surface
+expect_usage --porosity       $(vm) --porosity 0.6
+expect_usage --porosity       $(vm) --solid sheet --porosity 1.5
+expect_usage --porosity       $(vm) --solid sheet --porosity 0.6 --thickness 0.2
+expect_usage --thickness      $(vm) --solid sheet
+expect_usage --thickness      $(vm) --thickness 0.2
+expect_usage --tile           $(vm) --tile 9x1x1
+expect_usage --cell-size      $(vm) --cell-size 0
+expect_usage --units          $(vm) --units furlong
+expect_usage --size           $(vm) --size 0.5
+expect_usage --size           $(vm) --size 0.1 --size-max 0.1
+expect_usage --size-min       $(vm) --size-min 0.1 --size-max 0.05
+expect_usage --facet-distance $(vm) --facet-distance 0
+expect_usage --format         $(vm) --format stl
+expect_usage --threads        $(vm) --threads -1
+
+# The four formats of one mesh (2 mm cells, two tiles along x).
+for ext in msh inp vtu xdmf; do
+  "$bin" volume-mesh --from "$r" --tile 2x1x1 --cell-size 2 --units mm --size 0.3 \
+    --out "$work/g.$ext" --quiet || { echo "FAIL: volume-mesh .$ext"; fail=1; }
+  test -s "$work/g.$ext" && test -s "$work/g.$ext.json" || { echo "FAIL: no g.$ext"; fail=1; }
+done
+python3 - "$work/g.msh.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+c = r["checks"]
+bad = [k for k in ("inverted_tets", "degenerate_tets", "unmatched_boundary_faces",
+                   "unpaired_nodes") if c[k] != 0]
+if c["components_periodic"] != 1: bad.append("components_periodic")
+if c["pair_mismatch"] > 1e-12: bad.append("pair_mismatch")
+if abs(r["volume_relative_error"]) > 0.005: bad.append("volume_relative_error")
+# The perturber and exuder lengthen a few edges past the size (docs/volume_mesh.md).
+e = r["edge_length"]
+if e["max"] > 1.25 * 0.3 or e["above_size_max"] > 1e-3 * r["edges"]: bad.append("edge_length")
+if r["pairing"]["pairs"] <= 0 or r["format"] != "msh": bad.append("pairing/format")
+if bad: print("FAIL: g.msh.json:", bad, c); sys.exit(1)
+PY
+
+# Debian's python3-meshio lives in the system python3, which a pyenv python3 first on PATH
+# does not see.
+py=""
+for p in python3 /usr/bin/python3; do
+  if "$p" -c "import meshio, numpy" 2>/dev/null; then py="$p"; break; fi
+done
+if [ -z "$py" ]; then
+  echo "SKIP: python3-meshio missing: the files were not read back"
+  [ "$fail" -eq 0 ] && exit 77 || exit 1
+fi
+"$py" - "$work" <<'PY' || fail=1
+import json, sys
+import meshio
+import numpy as np
+work = sys.argv[1]
+r = json.load(open(f"{work}/g.msh.json"))
+period = np.array(r["pairing"]["period"])
+ok = True
+try:
+    import h5py  # meshio's XDMF reader imports it even for inline XML data
+    formats = ("msh", "inp", "vtu", "xdmf")
+except ImportError:
+    print("note: python3-h5py missing: meshio cannot read g.xdmf; left out")
+    formats = ("msh", "inp", "vtu")
+for ext in formats:
+    r = json.load(open(f"{work}/g.{ext}.json"))  # each run meshes anew: its own report
+    m = meshio.read(f"{work}/g.{ext}")
+    tets = sum(len(c.data) for c in m.cells if c.type == "tetra")
+    if len(m.points) != r["nodes"] or tets != r["tets"]:
+        print(f"FAIL: meshio g.{ext}: {len(m.points)} points, {tets} tets; want",
+              r["nodes"], r["tets"]); ok = False
+    if ext in ("vtu", "xdmf"):
+        master = np.asarray(m.point_data["periodic_master"]).ravel().astype(int)
+        s = np.nonzero(master >= 0)[0]
+        d = m.points[s] - m.points[master[s]]
+        k = np.round(d / period)
+        if len(s) != r["pairing"]["pairs"] or np.abs(d - k * period).max() > 1e-12 * period.max():
+            print(f"FAIL: g.{ext} periodic_master pairs"); ok = False
+# MSH: every $Periodic link's pairs coincide modulo its translation.
+r = json.load(open(f"{work}/g.msh.json"))
+m = meshio.read(f"{work}/g.msh")
+pairs = 0
+for link in m.gmsh_periodic:
+    dims, affine, nodes = link[0], np.asarray(link[2]).reshape(4, 4), np.asarray(link[3])
+    t = affine[:3, 3]
+    d = m.points[nodes[:, 0]] - m.points[nodes[:, 1]] - t
+    pairs += len(nodes)
+    if np.abs(d).max() > 1e-12 * period.max():
+        print("FAIL: msh $Periodic pair off by", np.abs(d).max()); ok = False
+if pairs != r["pairing"]["pairs"]:
+    print("FAIL: msh $Periodic holds", pairs, "pairs; want", r["pairing"]["pairs"]); ok = False
+sys.exit(0 if ok else 1)
+PY
+# gmsh reads the MSH file (its own parser, $Periodic included) and writes it back.
+if command -v gmsh >/dev/null; then
+  gmsh "$work/g.msh" -save -format msh41 -o "$work/back.msh" >"$work/gmsh.log" 2>&1 ||
+    { echo "FAIL: gmsh cannot read g.msh"; tail -5 "$work/gmsh.log"; fail=1; }
+  grep -q '\$Periodic' "$work/back.msh" 2>/dev/null ||
+    { echo "FAIL: gmsh lost \$Periodic"; fail=1; }
+else
+  echo "note: gmsh not installed: its read-back left out"
+fi
+exit "$fail"
