@@ -109,7 +109,7 @@ void ComponentConstraint::check_count(const Field& phi, int step) const {
       "between them thinner than the interface (a finer --grid or a smaller --epsilon), or a "
       "component too thin for its volume to stay connected",
       labels_.count, now, step,
-      now < labels_.count ? "components merged" : "a component split"));
+      now < labels_.count ? "components merged or one dissolved" : "a component split"));
 }
 
 Field double_structure_seed(const RunParams& params) {

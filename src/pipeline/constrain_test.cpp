@@ -212,6 +212,24 @@ TEST(Constrain, DoubleSeedWithOneVolumeIsWarnedAbout) {
       << r.warnings.back();
 }
 
+// Networks too thin for the grid (alpha 0.08 at 16^3, epsilon 2/3 h) do not survive: the
+// relabelling notices and the run stops with the counts and the step named.
+TEST(Constrain, ComponentCountChangeStopsTheRun) {
+  RunParams p = small_run("G", 0.08, Constraint::kComponents);
+  p.structure = Structure::kDouble;
+  p.grid = 16;
+  p.epsilon = 0.04;
+  try {
+    run_cmc(p);
+    ADD_FAILURE() << "the run ended";
+  } catch (const ComponentsChanged& e) {
+    EXPECT_NE(std::string(e.what()).find("phase 1 had 2 connected components at the start and 1 "
+                                         "after time step "),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // The topology check compares every number, and names both.
 TEST(Constrain, TopologyWarningNamesSeedAndResult) {
   RunParams p;
