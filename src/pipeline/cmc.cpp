@@ -796,6 +796,9 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
     }
     truncate_unit_interval(result.phi);                                                // step 2
     result.initial = measure_field(result.phi, params.epsilon);
+    // What the result's topology is compared with: the nodal start {F > 0} (the family's,
+    // as euler_characteristic_start) or the double seed; a checkpoint carries it.
+    result.seed_topology = phase_topology(result.initial);
   }
   Evolution evolution(params, context, result);
   if (context.resume) evolution.restore(*context.resume);
@@ -806,11 +809,6 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
     if (!double_seed) {
       evolution.prerelax();                  // step 3
       threshold_and_shift(params, result);   // steps 4 and 5
-    }
-    // What the result's topology is compared with (a checkpoint taken later carries it).
-    if (result.phi.whole()) {
-      result.phi.exchange_halo();
-      result.seed_topology = phase_topology(result.phi);
     }
   }
   relax_and_constrain(evolution, params, result,
