@@ -165,6 +165,7 @@ void print_warnings(const RunParams& p, const RunResult& r) {
         "corrections (report.json volume_iterates); try a smaller --tol\n",
         r.final.volume_fraction, p.volume_fraction,
         r.volume_iterates.empty() ? 0 : int(r.volume_iterates.size()) - 1);
+  for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
 }
 
 // After a failure past the solve (no report.json was written, so the folder reads as

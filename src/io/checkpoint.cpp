@@ -98,6 +98,12 @@ nlohmann::json result_json(const RunResult& r) {
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;
   j["measure_seconds"] = r.measure_seconds;
+  // Double structures (absent from older files): what a resumed run's warnings compare with,
+  // and the volumes --constrain components holds.
+  if (const auto& t = r.seed_topology)
+    j["seed_topology"] = {t->components_phase1, t->components_phase2,
+                          t->euler_characteristic_phase1, t->euler_characteristic_phase2};
+  j["component_volume_targets"] = r.component_volume_targets;
   return j;
 }
 
@@ -124,6 +130,13 @@ void result_from_json(const nlohmann::json& j, RunResult& r) {
   j.at("wall_seconds").get_to(r.wall_seconds);
   j.at("solver_seconds").get_to(r.solver_seconds);
   j.at("measure_seconds").get_to(r.measure_seconds);
+  if (j.contains("seed_topology") && j["seed_topology"].size() == 4) {
+    const auto& t = j["seed_topology"];
+    r.seed_topology = PhaseTopology{t[0].get<std::int64_t>(), t[1].get<std::int64_t>(),
+                                    t[2].get<std::int64_t>(), t[3].get<std::int64_t>()};
+  }
+  if (j.contains("component_volume_targets"))
+    j["component_volume_targets"].get_to(r.component_volume_targets);
 }
 
 struct NamedField {

@@ -44,8 +44,8 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
           if constexpr (std::is_same_v<R, RunChoice>) {
             const std::string s = json_value<std::string>(j.at(o.key), what);
             if (!set_run_choice(o, p, s))
-              throw std::runtime_error(fmt::format("parameter '{}': '{}' is neither {} nor {}",
-                                                   o.key, s, ref.names.at(0), ref.names.at(1)));
+              throw std::runtime_error(fmt::format("parameter '{}': '{}' is none of {}", o.key,
+                                                   s, run_choice_names(o)));
           } else {
             auto& v = ref(p);
             v = json_value<std::remove_cvref_t<decltype(v)>>(j.at(o.key), what);
@@ -194,9 +194,31 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   } else {
     j["volume_corrections"] = 0;
     j["constrain_note"] =
-        nodal ? "mass: the mass is held at alpha (Section 4.4); volume_fraction may differ from it"
-              : "no effect: this surface has no target volume fraction";
+        !nodal ? "no effect: this surface has no target volume fraction"
+        : p.constrain == Constraint::kComponents
+            ? "components: each component of phase 1 holds its sharp volume after every step "
+              "(component_volume_targets, summing to alpha)"
+            : "mass: the mass is held at alpha (Section 4.4); volume_fraction may differ from it";
   }
+  // Double structures: each piece of the surface, the components' volumes, the warnings.
+  if (r.final.sharp && !r.interfaces.empty()) {
+    nlohmann::json pieces = nlohmann::json::array();
+    for (const InterfaceMeasures& m : r.interfaces)
+      pieces.push_back({{"phase", m.phase},
+                        {"component", m.component},
+                        {"area", m.area},
+                        {"mean_curvature", m.mean_curvature},
+                        {"mean_curvature_std", m.mean_curvature_std},
+                        {"gaussian_curvature_integral", m.gaussian_curvature_integral},
+                        {"euler_characteristic", m.euler_characteristic},
+                        {"enclosed_volume", m.enclosed_volume}});
+    j["interfaces"] = pieces;
+  }
+  if (!r.component_volume_targets.empty()) {
+    j["component_volume_targets"] = r.component_volume_targets;
+    j["component_volumes"] = r.component_volumes;
+  }
+  j["warnings"] = r.warnings;
   j["balanced"] = info ? nlohmann::json(info->balanced) : nlohmann::json();
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;
@@ -241,6 +263,17 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
       {"gauss_bonnet_error", "gaussian_curvature_integral / (2 pi chi_surface) - 1"},
       {"mean_gaussian_curvature", "gaussian_curvature_integral / area: <K> a^2"},
       {"willmore_energy", "integral of H^2 dA over the sharp surface"},
+      {"interfaces",
+       "one entry per component of the phase with more components (phase 1 when both have "
+       "one): its boundary's area, mean_curvature, mean_curvature_std, "
+       "gaussian_curvature_integral and euler_characteristic (2 chi of the component) and the "
+       "component's enclosed_volume; the surface's connected pieces when each such component "
+       "touches one component of the other phase (docs/science.md, double structures)"},
+      {"component_volume_targets",
+       "--constrain components: the volume each component of phase 1 holds (its seed's, "
+       "scaled to sum to alpha); component_volumes: the final sharp volumes"},
+      {"warnings", "what the command line printed as warnings: the result's topology differs "
+                   "from its seed's, or the seed's components share one volume constraint"},
       {"crystallographic_cell",
        "the space group's cubic cell the literature states numbers in (P Im-3m, D Pn-3m with "
        "a/2: 8 per computed cell, G Ia-3d); lattice_parameter over the computed a; area per "

@@ -13,12 +13,20 @@
 #include "pipeline/continuation.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
+#include "measure/components.h"
 #include "measure/topology.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
 
-const char* constraint_name(Constraint c) { return c == Constraint::kVolume ? "volume" : "mass"; }
+const char* constraint_name(Constraint c) {
+  switch (c) {
+    case Constraint::kVolume: return "volume";
+    case Constraint::kMass: return "mass";
+    case Constraint::kComponents: return "components";
+  }
+  return "?";
+}
 
 Measures measure_field_diffuse(Field& phi, double epsilon) {
   phi.exchange_halo();
@@ -332,6 +340,7 @@ class Evolution {
     const auto ts = WallClock::now();
     const StepStats s = stepper_.step(phi);
     result_.solver_seconds += seconds_since(ts);
+    project_components(phi);
     result_.vcycles += s.vcycles;
     last_step_converged_ = s.converged;
     if (!s.converged) ++result_.unconverged_steps;
@@ -363,6 +372,7 @@ class Evolution {
   // With volume_rate > 0 the stop rule also needs the sharp volume fraction to change by at
   // most volume_rate in the step (after a mass correction the area can settle before V does).
   int relax(const char* stage = "relax", double volume_rate = 0.0) {
+    start_components();
     double a = 0.0, v = 0.0;
     if (!resuming(stage)) {
       set_epsilon(params_.epsilon);
@@ -407,12 +417,34 @@ class Evolution {
         break;
       }
     }
+    if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
     return taken;
   }
 
+  // --constrain components: labels phase 1 where step 6 (or a resumed or finer grid's
+  // relaxation) starts; its volume targets are kept in the result.
+  void start_components() {
+    if (params_.constrain != Constraint::kComponents || components_) return;
+    if (!result_.phi.whole())
+      throw std::invalid_argument("--constrain components: needs the whole grid on one process");
+    result_.phi.exchange_halo();
+    // A resumed run keeps the targets its checkpoint carries.
+    components_.emplace(result_.phi, params_.volume_fraction, result_.component_volume_targets);
+    result_.component_volume_targets = components_->targets();
+  }
+
  private:
+  // Each component back to its volume after a step; a count check every few steps (a merge
+  // shows within them; the check labels the whole grid).
+  void project_components(Field& phi) {
+    if (!components_) return;
+    constexpr int kCountCheckEvery = 10;
+    components_->project(phi);
+    if ((step_ + 1) % kCountCheckEvery == 0) components_->check_count(phi, step_ + 1);
+  }
+
   // Whether the diffuse area and the sharp volume fraction of the last `taken` steps (this
   // relaxation's) have settled within params.settle_tol (the history holds them, so that a
   // resumed run decides alike).
@@ -478,6 +510,7 @@ class Evolution {
   bool last_step_converged_ = true;
   RunCursor cursor_;
   bool resuming_ = false;
+  std::optional<ComponentConstraint> components_;
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where
@@ -533,6 +566,28 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
 
 namespace {
 
+// Double structures: each piece of the surface, the components' volumes against their targets
+// and the topology warnings (whole grids only: the labels are global).
+void add_component_measures(RunResult& r) {
+  if (!r.phi.whole()) return;
+  r.interfaces = interface_measures(r.phi);
+  if (!r.component_volume_targets.empty()) {
+    r.component_volumes = component_volumes(r.phi, label_components(r.phi, 1));
+  }
+}
+
+// The warnings of a finished run about its topology against its seed's.
+void add_topology_warnings(RunResult& r, const RunParams& params) {
+  if (r.seed_topology && r.final.sharp && r.final.components_phase1 >= 0) {
+    for (std::string& w : topology_warnings(*r.seed_topology, phase_topology(r.final), params))
+      r.warnings.push_back(std::move(w));
+  }
+}
+
+}  // namespace
+
+namespace {
+
 // The sharp measures of the final field: once per run, after every stage.
 void measure_final(RunResult& r, const RunParams& params) {
   const auto t0 = WallClock::now();
@@ -544,6 +599,7 @@ void measure_final(RunResult& r, const RunParams& params) {
   r.final_psi = Field::like(r.phi, 2);
   tanh_profile_inverse(r.phi, r.final_psi);
   add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
+  add_component_measures(r);
   r.measure_seconds = seconds_since(t0);
   if (!(r.final.area > 0.0))
     throw NoSurface(fmt::format(
@@ -587,9 +643,11 @@ RunResult relax_from(const Field& phi0, const RunParams& params, const RunContex
   result.phi = Field(params.grid, 2, context.decomposition);
   copy_interior(phi0, result.phi);
   result.initial = measure_field(result.phi, params.epsilon);
+  result.seed_topology = phase_topology(result.initial);
   Evolution evolution(params, context, result);
   relax_and_constrain(evolution, params, result, hold_volume);
   measure_final(result, params);
+  add_topology_warnings(result, params);
   return result;
 }
 
@@ -662,6 +720,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   result.bisection = coarse.bisection;
   result.mass_before_shift = coarse.mass_before_shift;
   result.initial = coarse.initial;
+  result.seed_topology = coarse.seed_topology;
   Evolution evolution(finest, context, result);
   evolution.continue_after(coarse, t0);
   relax_and_constrain(evolution, finest, result, hold);
@@ -696,6 +755,7 @@ RunResult run_cmc(const RunParams& params, const RunContext& context) {
   RunResult result = run_cmc_stages(params, context);
   measure_final(result, params);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
+  add_topology_warnings(result, params);
   return result;
 }
 
@@ -705,6 +765,7 @@ RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
   RunResult result = run_cmc_stages(params, context, &phi0);
   measure_final(result, params);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
+  add_topology_warnings(result, params);
   return result;
 }
 
@@ -726,17 +787,29 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
     if (start) {  // step 1 given (run_cmc_from_field)
       result.phi = Field(params.grid, 2, d);
       copy_interior(*start, result.phi);
+    } else if (params.structure == Structure::kDouble) {
+      if (d && d->distributed())
+        throw std::invalid_argument("--structure double: needs the whole grid on one process");
+      result.phi = double_structure_seed(params);  // two networks at alpha, with the profile
     } else {
       result.phi = make_initial_field(initial_field_params(params), params.grid, 2, d);  // step 1
     }
     truncate_unit_interval(result.phi);                                                // step 2
     result.initial = measure_field(result.phi, params.epsilon);
+    // What the result's topology is compared with: the nodal start {F > 0} (the family's,
+    // as euler_characteristic_start) or the double seed; a checkpoint carries it.
+    result.seed_topology = phase_topology(result.initial);
   }
   Evolution evolution(params, context, result);
   if (context.resume) evolution.restore(*context.resume);
+  // A double seed is already at alpha with the equilibrium profile: the wide pre-relaxation
+  // would dissolve its thin matrix and the threshold has nothing to do.
+  const bool double_seed = params.structure == Structure::kDouble && !start;
   if (!evolution.resuming("relax") && !evolution.resuming("volume")) {
-    evolution.prerelax();                  // step 3
-    threshold_and_shift(params, result);   // steps 4 and 5
+    if (!double_seed) {
+      evolution.prerelax();                  // step 3
+      threshold_and_shift(params, result);   // steps 4 and 5
+    }
   }
   relax_and_constrain(evolution, params, result,
                       params.constrain == Constraint::kVolume);  // step 6 and after

@@ -13,6 +13,7 @@
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
 #include "measure/sharp_surface.h"
+#include "pipeline/component_constraint.h"
 #include "pipeline/continuation.h"
 
 namespace cmcsurf {
@@ -21,9 +22,16 @@ enum class StopRule { kArea, kPhi };
 
 // What step 6 holds at alpha for nodal surfaces: the sharp volume fraction of {phi > 1/2}
 // (Section 2.1's constraint; mass corrections after step 6, docs/volume.md) or the mass (the
-// paper's Section 4.4 as printed).
-enum class Constraint { kVolume, kMass };
+// paper's Section 4.4 as printed). kComponents holds the sharp volume of each connected
+// component of phase 1 at every step (pipeline/component_constraint.h): two networks in a
+// matrix keep theirs, where one shared constraint lets them exchange volume.
+enum class Constraint { kVolume, kMass, kComponents };
 const char* constraint_name(Constraint c);
+
+// The seed of a nodal surface: single (phase 1 = {F > c}, steps 1-5) or double (phase 1 =
+// {|F| > c}: two networks in a matrix, seeded with the tanh profile at alpha; no pre-relaxation,
+// whose wide layer would dissolve the thin matrix, and no steps 4-5).
+enum class Structure { kSingle, kDouble };
 
 struct RunParams {
   std::string surface = "G";
@@ -67,6 +75,7 @@ struct RunParams {
   // grid only, which starts from the interpolated relaxed coarse field (0: solver.rtol there too).
   double mg_rtol_finest = 0.0;
   bool fast = false;  // the user asked for `--fast` (which chose the options above)
+  Structure structure = Structure::kSingle;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -179,6 +188,15 @@ struct RunResult {
   // mean curvature samples. Whole grids only (empty on a decomposed block).
   Field final_psi;
   std::vector<CurvatureSample> final_samples;
+  // Double structures (whole grids; empty otherwise). Constraint::kComponents: each
+  // component's target volume and final sharp volume. The seed's topology (the field step 6
+  // starts from), each connected piece of the final surface (measure/components.h) and the
+  // warnings report.json lists and the command line prints.
+  std::vector<double> component_volume_targets;
+  std::vector<double> component_volumes;
+  std::optional<PhaseTopology> seed_topology;
+  std::vector<InterfaceMeasures> interfaces;
+  std::vector<std::string> warnings;
 };
 
 // Called after every time step with the step's record.

@@ -88,6 +88,12 @@ void check_run_params(const RunParams& p, bool check_surface) {
       throw OptionError(fmt::format("--coarse-levels: got {} for --surface {}; accepted: 0 (the "
                                     "coarse-to-fine continuation starts from a nodal formula)",
                                     p.coarse_levels, p.surface));
+    // A double structure is the |F| > c of a nodal formula.
+    if (p.structure == Structure::kDouble && !is_nodal_surface(p.surface))
+      throw OptionError(fmt::format("--structure: got double for --surface {}; accepted: single "
+                                    "(a double structure is made from a nodal formula: P, D, "
+                                    "G, ..., expr:)",
+                                    p.surface));
   }
   // The bound first: the sizes m 2^k that coarsenable suggests are of no use beyond it.
   require(p.grid <= kMaxGrid, "--grid", p.grid, fmt::format("N <= {}", kMaxGrid).c_str());

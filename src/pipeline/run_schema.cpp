@@ -42,6 +42,19 @@ const std::vector<RunOption>& table() {
        .solver_group = false,
        .ref = RunMember<double>([](RunParams& p) -> double& { return p.volume_fraction; }),
        .optional_in_json = true},  // the same
+      // --structure double: two networks in a matrix (pipeline/cmc.h's Structure).
+      {.key = "structure",
+       .cli = "--structure",
+       .help = "Nodal surfaces: single (phase 1 = {F > c}) or double (phase 1 = {|F| > c}: two "
+               "networks in a matrix, seeded at --volume-fraction without pre-relaxation; "
+               "with --constrain components each keeps its volume; one process)",
+       .unit = "",
+       .scope = S::kSurface,
+       .solver_group = false,
+       .ref = RunChoice{{"single", "double"},
+                        [](const RunParams& p) { return int(p.structure); },
+                        [](RunParams& p, int i) { p.structure = Structure(i); }},
+       .optional_in_json = true},  // reports written before the option existed: single
       {.key = "grid",
        .cli = "--grid",
        .help = "Cells per side N (m * 2^k, m in {1,3,5,7}, N >= 8)",
@@ -113,18 +126,16 @@ const std::vector<RunOption>& table() {
       {.key = "constrain",
        .cli = "--constrain",
        .help = "What step 6 holds at --volume-fraction: volume (the sharp volume fraction of "
-               "phi > 1/2, by mass corrections after step 6) or mass (the paper's Section 4.4 "
-               "as printed); no effect for sphere, cube, noise",
+               "phi > 1/2, by mass corrections after step 6), mass (the paper's Section 4.4 "
+               "as printed) or components (the sharp volume of each connected component of "
+               "phi > 1/2, scaled to sum to alpha, after every step: the networks of a double "
+               "structure; one process); no effect for sphere, cube, noise",
        .unit = "",
        .scope = S::kSolver,
        .solver_group = false,
-       .ref = RunChoice{{"volume", "mass"},
-                        [](const RunParams& p) {
-                          return p.constrain == Constraint::kVolume ? 0 : 1;
-                        },
-                        [](RunParams& p, int i) {
-                          p.constrain = i == 0 ? Constraint::kVolume : Constraint::kMass;
-                        }}},
+       .ref = RunChoice{{"volume", "mass", "components"},
+                        [](const RunParams& p) { return int(p.constrain); },
+                        [](RunParams& p, int i) { p.constrain = Constraint(i); }}},
       {.key = "volume_tol",
        .cli = "--volume-tol",
        .help = "--constrain volume: stop correcting when |V - alpha| <= this",

@@ -73,7 +73,7 @@ struct GyroidPair {
   RunParams p;
   RunResult low, high;
   GyroidPair() {
-    p.surface = "G";
+    p.surface = std::string("G");  // a move: GCC 12 warns falsely (-Wrestrict) on = "G" here
     p.grid = 32;
     p.epsilon = 0.02;
     p.volume_fraction = 0.3;

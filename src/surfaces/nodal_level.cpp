@@ -45,17 +45,11 @@ double kth_value(const std::vector<double>& values, long rank, const Decompositi
 
 }  // namespace
 
-NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol,
-                              std::shared_ptr<const Decomposition> d) {
-  if (!is_nodal_surface(surface))
-    throw std::invalid_argument("nodal_level_set: '" + surface + "' is not a nodal surface");
-  if (!(alpha > 0.0 && alpha < 1.0))
-    throw std::invalid_argument("nodal_level_set: alpha must be in (0, 1)");
-  InitialFieldParams init;
-  init.surface = surface;
-  NodalLevelSet out;
+namespace {
+
+// out.f given: its level and volume fraction at alpha.
+void fit_level(NodalLevelSet& out, double alpha, double tol, const Decomposition* d) {
   const bool split = d && d->distributed();
-  out.f = split ? make_initial_field(init, n, 2, d) : make_initial_field(init, n, 2);
   const Field& f = out.f;
   // First guess: a fraction alpha of every 8th cell (global i, j, k even) has f > c.
   std::vector<double> values;
@@ -102,6 +96,40 @@ NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, d
   }
   out.level = c1;
   out.volume_fraction = v1;
+}
+
+NodalLevelSet nodal_field(const std::string& surface, double alpha, int n,
+                          const std::shared_ptr<const Decomposition>& d, const char* who) {
+  if (!is_nodal_surface(surface))
+    throw std::invalid_argument(std::string(who) + ": '" + surface + "' is not a nodal surface");
+  if (!(alpha > 0.0 && alpha < 1.0))
+    throw std::invalid_argument(std::string(who) + ": alpha must be in (0, 1)");
+  InitialFieldParams init;
+  init.surface = surface;
+  NodalLevelSet out;
+  const bool split = d && d->distributed();
+  out.f = split ? make_initial_field(init, n, 2, d) : make_initial_field(init, n, 2);
+  return out;
+}
+
+}  // namespace
+
+NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol,
+                              std::shared_ptr<const Decomposition> d) {
+  NodalLevelSet out = nodal_field(surface, alpha, n, d, "nodal_level_set");
+  fit_level(out, alpha, tol, d.get());
+  return out;
+}
+
+NodalLevelSet double_level_set(const std::string& surface, double alpha, int n, double tol,
+                               std::shared_ptr<const Decomposition> d) {
+  NodalLevelSet out = nodal_field(surface, alpha, n, d, "double_level_set");
+  Field& f = out.f;
+  for (int k = 0; k < f.nz(); ++k)
+    for (int j = 0; j < f.ny(); ++j)
+      for (int i = 0; i < f.nx(); ++i) f(i, j, k) = std::abs(f(i, j, k) - 0.5);
+  f.exchange_halo();
+  fit_level(out, alpha, tol, d.get());
   return out;
 }
 

@@ -23,6 +23,11 @@ struct NodalLevelSet {
 NodalLevelSet nodal_level_set(const std::string& surface, double alpha, int n, double tol = 1e-7,
                               std::shared_ptr<const Decomposition> d = nullptr);
 
+// The same for a double structure: f = |F| (F without the +1/2 offset), phase 1 = {|F| > c}:
+// for c > 0 the two labyrinths of the surface F = 0 shrunk to networks, in a matrix around it.
+NodalLevelSet double_level_set(const std::string& surface, double alpha, int n, double tol = 1e-7,
+                               std::shared_ptr<const Decomposition> d = nullptr);
+
 // The level-set function psi = f - c (zero on the nodal surface, > 0 in phase 1), ghost 2,
 // halo current: what measure/sharp_surface.h measures. It and the profile below have f's block.
 Field nodal_level_function(const NodalLevelSet& nodal);

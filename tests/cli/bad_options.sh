@@ -13,6 +13,8 @@ expect_usage --surface     run --surface Q
 expect_usage --stop        run --stop energy
 expect_usage --smoother    run --smoother jacobi
 expect_usage --constrain   run --constrain area
+expect_usage --structure   run --structure triple
+expect_usage --structure   run --surface sphere --structure double
 expect_usage --volume-tol  run --volume-tol 0
 expect_usage --dt-factor   run --dt-factor 0
 expect_usage --max-steps   run --max-steps 0
