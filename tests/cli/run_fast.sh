@@ -6,7 +6,7 @@ bin="$1"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 common=(--surface G --volume-fraction 0.35 --grid 32 --epsilon 0.02 --quiet)
-"$bin" run "${common[@]}" --out "$work/faithful"
+"$bin" run --paper "${common[@]}" --out "$work/faithful"
 "$bin" run "${common[@]}" --fast --out "$work/fast"
 "$bin" run "${common[@]}" --fast --no-extrapolate --dt-max-factor 4 --out "$work/mixed"
 python3 - "$work" <<'PY'

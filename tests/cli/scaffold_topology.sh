@@ -67,7 +67,7 @@ compgen -G "$work/f.stl*" >/dev/null && { echo "FAIL: f.stl written"; fail=1; }
   { echo "FAIL: --accept-topology-change"; fail=1; }
 
 # mesh --from a run folder whose report says the same.
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
   { echo "FAIL: run"; exit 1; }
 "$bin" mesh --from "$work/run" --solid network --quiet --out "$work/m0.stl" ||
   { echo "FAIL: mesh of an unchanged member"; fail=1; }
