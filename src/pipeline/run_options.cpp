@@ -34,8 +34,8 @@ void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface) {
     if (p.fast && c.given.count("fast") > 0)
       throw OptionError("--paper: not with --fast (the paper-faithful algorithm is the one "
                         "without the fast mode); accepted: one of them");
-    p.fast = false;
-    if (c.given.count("grid") == 0) p.grid = kPaperGrid;
+    for (const RunOption& o : run_option_table())
+      if (o.paper != nullptr && c.given.count(o.key) == 0) o.paper(p);
   }
   for (const RunOption& o : run_option_table()) {
     if (p.fast && o.fast != nullptr && c.given.count(o.key) == 0) o.fast(p, check_surface);

@@ -24,6 +24,8 @@ expect_usage --seed        run --surface noise --seed -1
 expect_usage --dt-max-factor run --dt-max-factor 0.25
 expect_usage --mg-rtol     run --fast --mg-rtol 1
 expect_usage --coarse-levels run --grid 32 --coarse-levels 3
+expect_usage --paper       run --paper --fast
+expect_usage --equilibrium-tol run --equilibrium-tol -1
 expect_usage --unknown-option run --unknown-option 3
 # Accepted silently before (docs/reliability.md, probes): out of range, not a number, or empty.
 expect_usage --seed        run --surface noise --seed 99999999999999999999

@@ -92,7 +92,7 @@ done
 # The tester's case: a P network at porosity 0.8 ends on separate balls (chi 1) at --grid 32.
 # Refused by its topology; with --accept-topology-change, by its 26 fragments (removing them
 # would leave porosity 0.975, and no level brings it back).
-real=(scaffold --surface P --solid network --porosity 0.8 --cell-size 2 --size 4 --grid 32
+real=(scaffold --paper --surface P --solid network --porosity 0.8 --cell-size 2 --size 4 --grid 32
       --cache "$cache")
 "$bin" "${real[@]}" --out "$work/r.stl" >/dev/null 2>"$work/err"
 rc=$?
