@@ -168,8 +168,9 @@ def run(arguments: Dict[str, Any]) -> Result:
     sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
     directly. The fast mode is the default (``--fast``: it chooses the options whose default
     is None where they are None; the grid is 128); ``paper=True`` is ``--paper``, the
-    paper-faithful algorithm at 64^3 unless ``grid`` is given. ``threads``: OpenMP threads for this call (0: OMP_NUM_THREADS or all
-    cores). ``progress``: called with a dict after every time step.
+    paper-faithful algorithm at 64^3 unless ``grid`` is given. ``threads``: OpenMP threads for
+    this call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every
+    time step.
 
     ``properties=True`` is ``--properties``: the effective stiffness and conductivities of the
     network of phase 1 (``properties_solid="sheet"`` with ``properties_porosity`` or
