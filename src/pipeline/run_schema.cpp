@@ -167,8 +167,8 @@ const std::vector<RunOption>& table() {
        .help = "Fast mode, the default (--paper turns it off): the options below marked (fast) "
                "take their fast values unless given (coarse-to-fine continuation, --mg-rtol "
                "1e-2, --extrapolate, --dt-max-factor 8, --mg-rtol-finest 0.1, --equilibrium-tol "
-               "1e-3); the surface agrees with the paper-faithful run to about 1e-4 in area and "
-               "is closer to the equilibrium (docs/performance.md)",
+               "1e-3 (128/N)^2); the surface agrees with the paper-faithful run to about 1e-4 in "
+               "area and is closer to the equilibrium (docs/performance.md)",
        .unit = "",
        .scope = S::kSolver,
        .solver_group = false,
@@ -260,14 +260,15 @@ const std::vector<RunOption>& table() {
        .help = "(fast) End each relaxation at epsilon once the equilibrium residual (the "
                "spread of the local H that the chemical potential still drives, in the units "
                "of H; report.json's equilibrium_residual) is at most this, instead of the --stop "
-               "rule (0: off, the paper's rule; --fast uses 1e-3)",
+               "rule (0: off, the paper's rule; --fast uses 1e-3 at --grid 128, times "
+               "(128/N)^2 at N)",
        .unit = "1/unit cell",
        .scope = S::kSolver,
        .solver_group = true,
        .ref = RunMember<double>([](RunParams& p) -> double& { return p.equilibrium_tol; }),
        .range = {0.0, 1e3, true, false},
        .accepted = "0 (off) <= T < 1000",
-       .fast = [](RunParams& p, bool) { p.equilibrium_tol = kFastEquilibriumTol; },
+       .fast = [](RunParams& p, bool) { p.equilibrium_tol = fast_equilibrium_tol(p.grid); },
        .optional_in_json = true},  // absent before 2026-11-27: off
       {.key = "max_vcycles",
        .cli = "--max-vcycles",

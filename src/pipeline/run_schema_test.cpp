@@ -207,7 +207,8 @@ TEST(RunSchema, DefaultsAreFastAndResolvedPaperIsTheOldRun) {
   EXPECT_EQ(fast.grid, 128);
   EXPECT_GE(fast.epsilon * fast.grid, 1.28 - 1e-12);
   EXPECT_TRUE(fast.fast);
-  EXPECT_EQ(fast.equilibrium_tol, kFastEquilibriumTol);
+  EXPECT_EQ(fast.equilibrium_tol, kFastEquilibriumTol);  // at 128^3; (128/N)^2 times that at N
+  EXPECT_EQ(fast_equilibrium_tol(256), 0.25 * kFastEquilibriumTol);
   EXPECT_EQ(fast.settle_tol, 0.0);
   EXPECT_EQ(fast.coarse_levels, 2);
 
