@@ -11,9 +11,14 @@ V-cycle's achieved bandwidth (its minimum traffic over its time; runs on one gri
 peak resident memory of the whole command per finest cell, and a STREAM-like triad measured
 by cmcsurf_bench in the same invocation, so every figure is also a ratio to the day's machine.
 
-Modes: `faithful` is plain `cmcsurf run` (the paper's algorithm), `fast` adds `--fast`, and
---variant LABEL:OPTIONS adds more. A non-faithful run's area and volume fraction are printed
-relative to the faithful run of the same member when both ran.
+Modes: `faithful` is `cmcsurf run --paper` (the paper's algorithm), `fast` is plain `cmcsurf
+run` (the fast mode, the default since 2026-11-27), `tight` is the fast mode run to an
+equilibrium residual of 1e-5 (the reference for the local-H spread), and --variant
+LABEL:OPTIONS adds more. A non-faithful run's area and volume fraction are printed relative to
+the faithful run of the same member when both ran, and each run's local-H spread
+(mean_curvature_std) relative to the tight run's when that ran. CPU seconds (user + system of
+the command) are printed beside the wall time: on a shared machine they are the steadier
+figure.
 
 usage: bench/end_to_end.py [--build build] [--grids 256] [--surfaces P,D,G]
                            [--volume-fractions 0.3,0.5] [--threads 2] [--modes fast]
@@ -56,7 +61,8 @@ def run_command(cmd):
     proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode != 0:
         raise subprocess.CalledProcessError(proc.returncode, cmd)
-    return seconds, usage.ru_maxrss * 1024  # ru_maxrss is in KiB on Linux
+    # ru_maxrss is in KiB on Linux
+    return seconds, usage.ru_maxrss * 1024, usage.ru_utime + usage.ru_stime
 
 
 def finest_vcycles(history_path, n):
@@ -104,7 +110,7 @@ def main():
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--epsilon", default="0.01")
     ap.add_argument("--modes", default="faithful,fast",
-                    help="comma list of faithful, fast and labels given by --variant")
+                    help="comma list of faithful, fast, tight and labels given by --variant")
     ap.add_argument("--variant", action="append", default=[], metavar="LABEL:OPTIONS",
                     help="a mode LABEL that adds OPTIONS to the faithful run, e.g. "
                          "'rtol:--mg-rtol 1e-2' (repeatable; LABEL is also added to --modes)")
@@ -112,7 +118,7 @@ def main():
     ap.add_argument("--json", help="also write the rows to this file")
     ap.add_argument("--plot", help="draw the whole command's breakdown into this PNG")
     a = ap.parse_args()
-    variants = {"faithful": [], "fast": ["--fast"]}
+    variants = {"faithful": ["--paper"], "fast": [], "tight": ["--equilibrium-tol", "1e-5"]}
     modes = a.modes.split(",")
     for v in a.variant:
         label, _, opts = v.partition(":")
@@ -122,7 +128,8 @@ def main():
     print(f"{'member':>9} {'N':>4} {'mode':>8} {'cmd s':>6} {'solve':>6} {'meas':>5} "
           f"{'qual':>5} {'prev':>5} {'page':>5} {'write':>5} {'rest':>5} {'post%':>5} "
           f"{'steps':>5} {'V-cyc':>5} {'V@N':>4} {'ms/V':>7} {'V/triad':>7} {'triad':>6} "
-          f"{'B/cell':>6} {'area':>9} {'d area':>8} {'d V':>8}")
+          f"{'B/cell':>6} {'area':>9} {'d area':>8} {'d V':>8} {'cpu s':>6} {'H std':>7} "
+          f"{'/tight':>6} {'eq res':>7} {'chi':>4}")
     rows = []
     for n in [int(x) for x in a.grids.split(",")]:
         # Triad over arrays of the same N^3 size, so cache effects match the run's.
@@ -130,14 +137,16 @@ def main():
         for s in a.surfaces.split(","):
             for alpha in [float(x) for x in a.volume_fractions.split(",")]:
                 faithful = None
-                for mode in modes:
+                # The tight run first, so that the others' local-H spread has its reference.
+                tight = None
+                for mode in sorted(modes, key=lambda m: m != "tight"):
                     with tempfile.TemporaryDirectory() as d:
                         cmd = [os.path.join(a.build, "cmcsurf"), "run", "--surface", s,
                                "--grid", str(n), "--epsilon", a.epsilon,
                                "--volume-fraction", str(alpha), "--threads", str(a.threads),
                                "--checkpoint-every", "0", "--quiet", "--out", d]
                         cmd += variants[mode] + a.extra.split()
-                        command_seconds, peak_bytes = run_command(cmd)
+                        command_seconds, peak_bytes, cpu_seconds = run_command(cmd)
                         r = json.load(open(os.path.join(d, "report.json")))
                         v_fine = finest_vcycles(os.path.join(d, "history.csv"), n)
                     post = {k: r.get(k, 0.0) for k in POST_STAGES}
@@ -149,9 +158,20 @@ def main():
                                seconds_per_vcycle=r["seconds_per_vcycle"],
                                peak_bytes_per_cell=peak_bytes / n ** 3, area=r["area"],
                                volume_fraction=r["volume_fraction"],
-                               stop_reason=r["stop_reason"], triad_gbs=triad / 1e9, **post)
+                               stop_reason=r["stop_reason"], triad_gbs=triad / 1e9,
+                               cpu_seconds=cpu_seconds,
+                               mean_curvature_std=r["mean_curvature_std"],
+                               equilibrium_residual=r.get("equilibrium_residual"),
+                               euler_characteristic=r["euler_characteristic"], **post)
                     if mode == "faithful":
                         faithful = row
+                    if mode == "tight":
+                        tight = row
+                    spread = f"{'-':>6}"
+                    if tight and mode != "tight":
+                        row["mean_curvature_std_vs_tight"] = (
+                            r["mean_curvature_std"] / tight["mean_curvature_std"] - 1)
+                        spread = f"{row['mean_curvature_std_vs_tight']:>+6.2f}"
                     spv = r["seconds_per_vcycle"]
                     ratio = (f"{VCYCLE_BYTES_PER_CELL * n ** 3 / spv / triad:>7.2f}"
                              if r["coarse_steps"] == 0 and spv > 0 else f"{'-':>7}")
@@ -170,7 +190,10 @@ def main():
                           + f" {other:>5.2f} {post_share:>5.1f} {row['steps']:>5} "
                           f"{r['vcycles']:>5} {v_fine:>4} {1e3 * spv:>7.1f} {ratio} "
                           f"{triad / 1e9:>6.1f} {row['peak_bytes_per_cell']:>6.1f} "
-                          f"{r['area']:>9.6f} {diff}", flush=True)
+                          f"{r['area']:>9.6f} {diff} {cpu_seconds:>6.2f} "
+                          f"{r['mean_curvature_std']:>7.4f} {spread} "
+                          f"{r.get('equilibrium_residual', float('nan')):>7.1e} "
+                          f"{r['euler_characteristic']:>4}", flush=True)
                     rows.append(row)
     if a.json:
         with open(a.json, "w") as f:

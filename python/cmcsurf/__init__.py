@@ -41,7 +41,8 @@ Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
 # The run options (the C++ run option table, pipeline/run_schema.cpp): the keywords of run,
 # relax and sweep with the command line's defaults. Their signatures are built from it below;
-# None, the default of the options --fast chooses, lets fast=True choose.
+# None, the default of the options --fast or --paper chooses, lets the mode choose (the fast
+# mode unless paper=True).
 _RUN_OPTIONS: List[Dict[str, Any]] = _cmcsurf.run_options()
 _TYPES = {"float": float, "int": int, "str": str, "bool": bool}
 _P = inspect.Parameter
@@ -49,7 +50,7 @@ _P = inspect.Parameter
 
 def _parameter(option: Dict[str, Any], kind: Any = _P.KEYWORD_ONLY,
                default: Any = _P.empty) -> inspect.Parameter:
-    fast = option["fast"]
+    fast = option["fast"] or option["paper"]
     annotation = _TYPES[option["type"]]
     if default is _P.empty:
         default = None if fast else option["default"]
@@ -166,9 +167,11 @@ def run(arguments: Dict[str, Any]) -> Result:
     Nodal surfaces (P, D, G, ..., ``expr:``) go through Section 4.4's steps 1-6 at
     ``volume_fraction`` and, with ``constrain="volume"``, the mass corrections that hold the
     sharp volume fraction of phi > 1/2 at it; ``sphere``, ``cube`` and ``noise`` are relaxed
-    directly. ``fast=True`` is ``--fast`` (it chooses the options whose default is None
-    where they are None). ``threads``: OpenMP threads for this call (0: OMP_NUM_THREADS or all
-    cores). ``progress``: called with a dict after every time step.
+    directly. The fast mode is the default (``--fast``: it chooses the options whose default
+    is None where they are None; the grid is 128); ``paper=True`` is ``--paper``, the
+    paper-faithful algorithm at 64^3 unless ``grid`` is given. ``threads``: OpenMP threads for
+    this call (0: OMP_NUM_THREADS or all cores). ``progress``: called with a dict after every
+    time step.
 
     ``properties=True`` is ``--properties``: the effective stiffness and conductivities of the
     network of phase 1 (``properties_solid="sheet"`` with ``properties_porosity`` or

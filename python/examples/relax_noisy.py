@@ -51,7 +51,9 @@ def main():
             bar.update()
 
     # Section 4.4 from the voxels, at their own volume fraction (volume_fraction=None).
-    result = cmcsurf.relax(voxels, epsilon=epsilon, tol=1e-5, progress=progress)
+    # paper=True: the paper's stop rule (|dA| <= tol); the fast mode's equilibrium rule would
+    # follow this coarse field on into a slow change of topology.
+    result = cmcsurf.relax(voxels, epsilon=epsilon, tol=1e-5, paper=True, progress=progress)
     if bar is not None:
         bar.close()
     rep = result.report

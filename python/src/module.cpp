@@ -292,16 +292,16 @@ class IntOptions {
 };
 
 // The keyword arguments of run(): the run option table's keys (pipeline/run_schema.h), each
-// converted by its type. None means "not given" only for the options --fast chooses (and is a
-// TypeError elsewhere); a key that is absent is not given. Unknown keys are a TypeError, as in
-// any Python call.
+// converted by its type. None means "not given" only for the options --fast or --paper chooses
+// (and is a TypeError elsewhere); a key that is absent is not given. Unknown keys are a
+// TypeError, as in any Python call.
 void apply_options(RunParams& p, RunChoices& c, IntOptions& ints, const py::dict& options) {
   for (auto [key_obj, v] : options) {
     const std::string key = py::cast<std::string>(key_obj);
     const RunOption* o = find_run_option(key);
     if (o == nullptr || !o->python())
       throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
-    if (o->fast != nullptr && v.is_none()) continue;  // --fast chooses
+    if ((o->fast != nullptr || o->paper != nullptr) && v.is_none()) continue;  // a mode chooses
     std::visit(
         [&](const auto& ref) {
           using R = std::decay_t<decltype(ref)>;
@@ -325,7 +325,7 @@ void apply_options(RunParams& p, RunChoices& c, IntOptions& ints, const py::dict
 
 // The run option table for the Python package (cmcsurf/__init__.py builds the signatures of
 // run, relax and sweep from it): key, command-line name, scope, default, unit, help, accepted
-// range, and whether --fast chooses it (then the keyword's default is None).
+// range, and whether --fast or --paper chooses it (then the keyword's default is None).
 py::list run_option_schema() {
   const RunParams defaults;
   const nlohmann::json values = params_json(defaults);
@@ -343,6 +343,7 @@ py::list run_option_schema() {
     d["accepted"] = std::holds_alternative<RunChoice>(o.ref) ? run_choice_names(o)
                                                               : std::string(o.accepted);
     d["fast"] = o.fast != nullptr;
+    d["paper"] = o.paper != nullptr;
     d["type"] = std::visit(
         [](const auto& ref) -> std::string {
           using R = std::decay_t<decltype(ref)>;

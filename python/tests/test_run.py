@@ -88,7 +88,7 @@ def test_keyword_defaults_are_the_cli_defaults():
                 assert p.default == defaults[name], (fn.__name__, name)
     sig = inspect.signature(cmcsurf.run).parameters
     assert sig["surface"].default == defaults["surface"]
-    assert sig["grid"].default == defaults["grid"] == 64
+    assert sig["grid"].default is None and defaults["grid"] == 128  # --paper: 64
 
 
 def test_surfaces_lists_the_builtin_table():
@@ -129,7 +129,7 @@ def test_signatures_are_the_run_option_table():
             assert own or (key in params) == (option["scope"] in wanted), (fn.__name__, key)
             if key not in params or own:
                 continue
-            want = None if option["fast"] else option["default"]
+            want = None if option["fast"] or option["paper"] else option["default"]
             assert params[key].default == want, (fn.__name__, key)
             assert f"    {key}" in fn.__doc__, (fn.__name__, key)
     assert {o["key"] for o in table} == set(defaults) - {

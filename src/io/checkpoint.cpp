@@ -62,7 +62,8 @@ nlohmann::json surface_measures_json(const Measures& m) {
           {"components_phase2", m.components_phase2},
           {"surface_components", m.surface_components},
           {"gaussian_curvature_integral", m.gaussian_curvature_integral},
-          {"willmore_energy", m.willmore_energy}};
+          {"willmore_energy", m.willmore_energy},
+          {"equilibrium_residual", m.equilibrium_residual}};
 }
 
 void surface_measures_from_json(const nlohmann::json& j, Measures& m) {
@@ -72,6 +73,7 @@ void surface_measures_from_json(const nlohmann::json& j, Measures& m) {
   j.at("surface_components").get_to(m.surface_components);
   j.at("gaussian_curvature_integral").get_to(m.gaussian_curvature_integral);
   j.at("willmore_energy").get_to(m.willmore_energy);
+  m.equilibrium_residual = j.value("equilibrium_residual", 0.0);  // absent before 2026-11-27
 }
 
 nlohmann::json result_json(const RunResult& r) {

@@ -103,6 +103,7 @@ nlohmann::json measures_json(const Measures& m, bool curvature_integrals) {
   j["volume_fraction_cells"] = m.volume_fraction_cells;
   j["mass"] = m.mass;
   j["energy"] = m.energy;
+  j["equilibrium_residual"] = m.equilibrium_residual;
   return j;
 }
 

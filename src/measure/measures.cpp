@@ -1,5 +1,6 @@
 #include "measure/measures.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -331,6 +332,55 @@ double mean_curvature_mu_ref(const Field& phi, double epsilon) {
   phi.sum_over_ranks(sums, 2);
   if (sums[1] == 0.0) return 0.0;
   return 3.0 * std::sqrt(2.0) / epsilon * sums[0] / sums[1];
+}
+
+double equilibrium_residual(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "equilibrium_residual");
+  CMCSURF_DCHECK(halo_is_current(phi));
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  const double inv_h2 = 1.0 / (h * h);
+  const double eps2 = epsilon * epsilon;
+  // Two passes, the mean first: the spread is small beside nu itself.
+  const auto [sum_nw, sum_w] = sum_cells2(phi, [=](const double* p, double& nw, double& w) {
+    const double g = grad4_sq_scaled(p, sy, sz);
+    nw += (double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2)) * g;
+    w += g;
+  });
+  if (sum_w == 0.0) return 0.0;
+  const double mean_nu = sum_nw / sum_w;
+  const double sum_dw = sum_cells(phi, [=](const double* p) {
+    const double d = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2) - mean_nu;
+    return d * d * grad4_sq_scaled(p, sy, sz);
+  });
+  return 3.0 * std::numbers::sqrt2 / epsilon * std::sqrt(std::max(0.0, sum_dw / sum_w));
+}
+
+double equilibrium_residual_ref(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "equilibrium_residual_ref");
+  const double h = phi.h();
+  auto nu_at = [&](int i, int j, int k) {
+    const double lap = (phi(i + 1, j, k) + phi(i - 1, j, k) + phi(i, j + 1, k) + phi(i, j - 1, k) +
+                        phi(i, j, k + 1) + phi(i, j, k - 1) - 6.0 * phi(i, j, k)) /
+                       (h * h);
+    const double v = phi(i, j, k);
+    return (v * v * v - 1.5 * v * v + 0.5 * v) - epsilon * epsilon * lap;
+  };
+  double sums[3] = {0.0, 0.0, 0.0};  // w nu, w, w (nu - mean)^2
+  for_each_cell(phi, [&](int i, int j, int k) {
+    const double w = grad4_squared_ref(phi, i, j, k);
+    sums[0] += nu_at(i, j, k) * w;
+    sums[1] += w;
+  });
+  phi.sum_over_ranks(sums, 2);
+  if (sums[1] == 0.0) return 0.0;
+  const double mean_nu = sums[0] / sums[1];
+  for_each_cell(phi, [&](int i, int j, int k) {
+    const double d = nu_at(i, j, k) - mean_nu;
+    sums[2] += d * d * grad4_squared_ref(phi, i, j, k);
+  });
+  phi.sum_over_ranks(&sums[2], 1);
+  return 3.0 * std::sqrt(2.0) / epsilon * std::sqrt(sums[2] / sums[1]);
 }
 
 double energy_ref(const Field& phi, double epsilon) {

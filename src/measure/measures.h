@@ -58,4 +58,13 @@ double mean_curvature_ref(const Field& phi);  // plain loop twin of mean_curvatu
 double mean_curvature_mu(const Field& phi, double epsilon);
 double mean_curvature_mu_ref(const Field& phi, double epsilon);  // plain loop twin
 
+// How far phi is from an equilibrium of Eqs. (5)-(6), in the units of H: the
+// |grad_d phi|^2-weighted standard deviation of H_mu = 3 sqrt2 nu / eps (as mean_curvature_mu)
+// over the grid. At a discrete steady state nu = W'(phi) - eps^2 Lap_d phi is constant (the
+// volume multiplier), so this is 0 there; away from it, it is the spread of the local mean
+// curvature that the diffuse layer still drives (docs/method.md). 0 for a field without an
+// interface. Needs ghost >= 2.
+double equilibrium_residual(const Field& phi, double epsilon);
+double equilibrium_residual_ref(const Field& phi, double epsilon);  // plain loop twin
+
 }  // namespace cmcsurf

@@ -90,6 +90,27 @@ TEST(Measures, MeanCurvatureMuMatchesReferenceOnRandomField) {
   EXPECT_NEAR(h, h_ref, 1e-10 * std::abs(h_ref));
 }
 
+TEST(Measures, EquilibriumResidualMatchesReferenceOnRandomField) {
+  const Field phi = random_field(kParallelMinN + 8, 7, 0.05);
+  const double r = equilibrium_residual(phi, 0.02), r_ref = equilibrium_residual_ref(phi, 0.02);
+  EXPECT_GT(r_ref, 1e-3);
+  EXPECT_NEAR(r, r_ref, 1e-10 * r_ref);
+}
+
+// The residual is the weighted spread of H_mu: 0 where nu is one constant (a bulk phase, no
+// weight: 0 by definition), and unchanged when phi -> 1 - phi, which flips nu's sign and H's.
+TEST(Measures, EquilibriumResidualOfBulkAndOfTheOtherPhase) {
+  Field bulk(16, 2);
+  bulk.fill(1.0);
+  EXPECT_EQ(equilibrium_residual(bulk, 0.05), 0.0);
+  Field phi = random_field(16, 4, 0.05), other = Field::like(phi, 2);
+  for_each_cell(phi, [&](int i, int j, int k) { other(i, j, k) = 1.0 - phi(i, j, k); });
+  other.exchange_halo();
+  const double r = equilibrium_residual(phi, 0.05);
+  EXPECT_GT(r, 0.0);
+  EXPECT_NEAR(equilibrium_residual(other, 0.05), r, 1e-9 * r);
+}
+
 TEST(Measures, EnergyMatchesReferenceOnRandomField) {
   const Field phi = random_field(kParallelMinN + 8, 9, 0.1);
   const double e = energy(phi, 0.01), e_ref = energy_ref(phi, 0.01);

@@ -39,6 +39,7 @@ Measures measure_field_diffuse(Field& phi, double epsilon) {
   m.volume_fraction_cells = volume_fraction(phi);
   m.mass = mass(phi);
   m.energy = energy(phi, epsilon);
+  m.equilibrium_residual = equilibrium_residual(phi, epsilon);
   return m;
 }
 
@@ -402,13 +403,17 @@ class Evolution {
       ++result_.steps;
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
+      const bool equilibrium = params_.equilibrium_tol > 0.0;
+      if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
+        met = equilibrium_residual(result_.phi, params_.epsilon) <= params_.equilibrium_tol;
       if (volume_rate > 0.0) {
         met = met && std::abs(r.volume_fraction - v) <= volume_rate;
         v = r.volume_fraction;
       }
       if (met) {
         result_.converged = true;
-        result_.stop_reason = params_.stop == StopRule::kArea ? "area" : "phi";
+        result_.stop_reason =
+            equilibrium ? "equilibrium" : params_.stop == StopRule::kArea ? "area" : "phi";
         break;
       }
       if (params_.settle_tol > 0.0 && settled(taken)) {
@@ -680,6 +685,9 @@ RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
 
 namespace {
 
+// The settling tolerance of the coarser grids of a run that ends on the equilibrium rule.
+constexpr double kCoarseSettleTol = 1e-5;
+
 // Coarse-to-fine continuation: the whole algorithm on N/2, then the result interpolated to N
 // and relaxed there (and volume-corrected), so most steps happen on the cheaper grid.
 RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context) {
@@ -705,6 +713,13 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   coarse_params.grid = params.grid / 2;
   coarse_params.coarse_levels = params.coarse_levels - 1;
   coarse_params.mg_rtol_finest = 0.0;  // every coarser grid at mg_rtol
+  if (params.equilibrium_tol > 0.0) {
+    // A coarser grid only gives the finest its start, and its own equilibrium differs from the
+    // finest's by more than the tolerance (epsilon is fewer cells wide there): its relaxations
+    // end once settled, as --fast's did before the equilibrium rule.
+    coarse_params.equilibrium_tol = 0.0;
+    if (coarse_params.settle_tol == 0.0) coarse_params.settle_tol = kCoarseSettleTol;
+  }
   RunResult coarse = run_cmc_stages(coarse_params, context);
   coarse.phi.exchange_halo();
 

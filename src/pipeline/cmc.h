@@ -36,7 +36,7 @@ enum class Structure { kSingle, kDouble };
 struct RunParams {
   std::string surface = "G";
   double volume_fraction = 0.5;  // alpha, for nodal surfaces
-  int grid = 64;
+  int grid = 128;  // epsilon = 1.28 h resolves the interface; --paper: kPaperGrid
   double epsilon = 0.01;
   double dt_factor = 0.5;  // dt = dt_factor * h
   StopRule stop = StopRule::kArea;
@@ -74,7 +74,14 @@ struct RunParams {
   // With coarse_levels > 0: the relative V-cycle stop (StepSolverOptions::rtol) on the finest
   // grid only, which starts from the interpolated relaxed coarse field (0: solver.rtol there too).
   double mg_rtol_finest = 0.0;
-  bool fast = false;  // the user asked for `--fast` (which chose the options above)
+  // The stop rule on the equilibrium itself (off when 0): a relaxation at epsilon ends when the
+  // equilibrium residual (measure/measures.h: the spread of the local H that the chemical
+  // potential still drives, in the units of H) is at most this, instead of the --stop rule.
+  double equilibrium_tol = 0.0;
+  // The user asked for the fast mode (the default; finish_run_params sets the options it chooses
+  // above) or for the paper-faithful algorithm of Section 4.4 (`--paper`: fast off, kPaperGrid).
+  bool fast = true;
+  bool paper = false;
   Structure structure = Structure::kSingle;
 
   double h() const { return 1.0 / grid; }
@@ -99,6 +106,7 @@ struct Measures {
   double volume_fraction_cells = 0.0;  // fraction of cells with phi > 1/2
   double mass = 0.0;
   double energy = 0.0;
+  double equilibrium_residual = 0.0;  // measure/measures.h: 0 at a steady state
   bool sharp = false;  // whether the sharp measures were taken (else they are 0)
   // Of phase 1 as closed voxels (measure/topology.h); with sharp. 1 - chi is the genus of the
   // surface per unit cell when both phases are connected: which member of a family a run found.

@@ -30,6 +30,13 @@ int fast_coarse_levels(int grid) {
 }
 
 void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface) {
+  if (p.paper) {
+    if (p.fast && c.given.count("fast") > 0)
+      throw OptionError("--paper: not with --fast (the paper-faithful algorithm is the one "
+                        "without the fast mode); accepted: one of them");
+    for (const RunOption& o : run_option_table())
+      if (o.paper != nullptr && c.given.count(o.key) == 0) o.paper(p);
+  }
   for (const RunOption& o : run_option_table()) {
     if (p.fast && o.fast != nullptr && c.given.count(o.key) == 0) o.fast(p, check_surface);
   }

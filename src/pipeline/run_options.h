@@ -30,16 +30,28 @@ struct RunChoices {
 constexpr int kMaxGrid = 2048;
 
 // What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
-// V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h, and each
-// relaxation ended once it has settled to 1e-5, and the finest grid's V-cycles to 1e-1.
+// V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h, the finest
+// grid's V-cycles to 1e-1, and each relaxation ended at an equilibrium residual of
+// fast_equilibrium_tol(N): 1e-3 at 128^3, scaled with h^2 like the grid's own spread of the
+// local H, so that the residual adds about 5 % to it at any grid (docs/method.md, "The
+// equilibrium stop rule").
 constexpr double kFastMgRtol = 1e-2;
 constexpr double kFastDtMaxFactor = 8.0;
-constexpr double kFastSettleTol = 1e-5;
 constexpr double kFastMgRtolFinest = 0.1;
+constexpr double kFastEquilibriumTol = 1e-3;  // at kFastEquilibriumGrid
+constexpr int kFastEquilibriumGrid = 128;
+inline double fast_equilibrium_tol(int grid) {
+  const double r = double(kFastEquilibriumGrid) / grid;
+  return kFastEquilibriumTol * r * r;
+}
 int fast_coarse_levels(int grid);
 
-// Applies --fast (p.fast) where not given, converts the choices' names and checks every range
-// (the surface and the volume fraction too when check_surface); throws OptionError.
+// --paper's grid: the default before the fast mode was (epsilon 0.01 = 0.64 h).
+constexpr int kPaperGrid = 64;
+
+// Applies --paper (p.paper: fast off, kPaperGrid unless --grid was given) or --fast (p.fast,
+// the default) where not given, converts the choices' names and checks every range (the
+// surface and the volume fraction too when check_surface); throws OptionError.
 void finish_run_params(RunParams& p, const RunChoices& c, bool check_surface);
 // The range checks alone (those of finish_run_params, plus the parameters the command line
 // does not set): for parameters read back from a checkpoint or sweep.json. Throws OptionError.

@@ -62,6 +62,8 @@ struct RunOption {
   const char* accepted = "";
   // --fast's value, set where the option was not given (null: --fast leaves it alone).
   void (*fast)(RunParams& p, bool check_surface) = nullptr;
+  // --paper's value, set where the option was not given (null: --paper leaves it alone).
+  void (*paper)(RunParams& p) = nullptr;
   // Absent from files written before the option existed: the default then.
   bool optional_in_json = false;
   // A library check of an integer's text before it is stored (--seed's sign); null: none.

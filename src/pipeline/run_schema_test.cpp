@@ -75,11 +75,11 @@ TEST(RunSchema, KeysAndCommandLineNamesAreUnique) {
 // counts. Give it an entry in pipeline/run_schema.cpp (or say here why it is no parameter), then
 // update the count.
 TEST(RunSchema, EveryParameterMemberHasAnEntry) {
-  EXPECT_EQ(aggregate_members<RunParams>(), 26u);  // 25 entries and `solver`
+  EXPECT_EQ(aggregate_members<RunParams>(), 28u);  // 27 entries and `solver`
   EXPECT_EQ(aggregate_members<StepSolverOptions>(), 7u);  // 4 entries, `fas`, and
   // divergence_factor and restore_mass, which only tests change
   EXPECT_EQ(aggregate_members<FasOptions>(), 5u);  // 4 entries; coarsest_check_every: cost only
-  EXPECT_EQ(run_option_table().size(), 25u + 4u + 4u);
+  EXPECT_EQ(run_option_table().size(), 27u + 4u + 4u);
 }
 
 // Each entry reads and writes its own member: changing one changes exactly its key in
@@ -192,8 +192,56 @@ TEST(RunSchema, FastChoosesWhatWasNotGivenAndNamesConvert) {
     EXPECT_STREQ(e.what(), "--constrain: got 'area'; accepted: volume, mass, components");
   }
   RunParams slow;  // without --fast nothing is chosen
+  slow.fast = false;
+  const nlohmann::json unchanged = params_json(slow);
   finish_run_params(slow, {}, true);
-  EXPECT_EQ(params_json(slow), params_json(RunParams{}));
+  EXPECT_EQ(params_json(slow), unchanged);
+}
+
+// The defaults are the fast mode at 128^3 (epsilon 0.01 = 1.28 h) ending on the equilibrium
+// rule; --paper gives back the paper-faithful run exactly as the defaults were before (64^3,
+// nothing chosen), a given --grid stays, and --paper with --fast is refused.
+TEST(RunSchema, DefaultsAreFastAndResolvedPaperIsTheOldRun) {
+  RunParams fast;
+  finish_run_params(fast, {}, true);
+  EXPECT_EQ(fast.grid, 128);
+  EXPECT_GE(fast.epsilon * fast.grid, 1.28 - 1e-12);
+  EXPECT_TRUE(fast.fast);
+  EXPECT_EQ(fast.equilibrium_tol, kFastEquilibriumTol);  // at 128^3; (128/N)^2 times that at N
+  EXPECT_EQ(fast_equilibrium_tol(256), 0.25 * kFastEquilibriumTol);
+  EXPECT_EQ(fast.settle_tol, 0.0);
+  EXPECT_EQ(fast.coarse_levels, 2);
+
+  RunParams paper;
+  paper.paper = true;
+  finish_run_params(paper, {}, true);
+  RunParams before;  // the defaults before the fast mode was
+  before.grid = kPaperGrid;
+  before.fast = false;
+  before.paper = true;
+  EXPECT_EQ(params_json(paper), params_json(before));
+  EXPECT_EQ(paper.grid, 64);
+  EXPECT_EQ(paper.equilibrium_tol, 0.0);
+  EXPECT_EQ(paper.solver.rtol, 0.0);
+  EXPECT_EQ(paper.stop, StopRule::kArea);
+
+  RunParams grid;
+  grid.paper = true;
+  grid.grid = 32;
+  RunChoices c;
+  c.given = {"grid"};
+  finish_run_params(grid, c, true);
+  EXPECT_EQ(grid.grid, 32);
+
+  RunParams both;
+  both.paper = true;
+  c.given = {"fast"};
+  try {
+    finish_run_params(both, c, true);
+    ADD_FAILURE() << "--paper with --fast accepted";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--paper: not with --fast", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

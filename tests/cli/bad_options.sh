@@ -26,6 +26,8 @@ expect_usage --seed        run --surface noise --seed -1
 expect_usage --dt-max-factor run --dt-max-factor 0.25
 expect_usage --mg-rtol     run --fast --mg-rtol 1
 expect_usage --coarse-levels run --grid 32 --coarse-levels 3
+expect_usage --paper       run --paper --fast
+expect_usage --equilibrium-tol run --equilibrium-tol -1
 expect_usage --unknown-option run --unknown-option 3
 # Accepted silently before (docs/reliability.md, probes): out of range, not a number, or empty.
 expect_usage --seed        run --surface noise --seed 99999999999999999999
@@ -51,7 +53,7 @@ python3 -c "import json, sys
 assert json.load(open(sys.argv[1]))['parameters']['coarse_levels'] == 0" \
   "$work/noise/report.json" || { echo "FAIL: --fast noise reports coarse levels"; fail=1; }
 # A run whose field ends with no surface is an error, not area 0 "converged".
-"$bin" run --surface expr:1 --grid 16 --quiet --no-preview --no-report --out "$work/flat" \
+"$bin" run --paper --surface expr:1 --grid 16 --quiet --no-preview --no-report --out "$work/flat" \
   2>"$work/stderr"
 rc=$?
 if [ "$rc" -ne 1 ] || ! grep -q "no surface" "$work/stderr" || [ -e "$work/flat/report.json" ]; then
@@ -59,7 +61,7 @@ if [ "$rc" -ne 1 ] || ! grep -q "no surface" "$work/stderr" || [ -e "$work/flat/
 fi
 # A file where the output directory should be.
 touch "$work/file"
-"$bin" run --grid 16 --out "$work/file" >/dev/null 2>"$work/stderr"
+"$bin" run --paper --grid 16 --out "$work/file" >/dev/null 2>"$work/stderr"
 rc=$?
 if [ "$rc" -ne 2 ] || ! grep -q -- --out "$work/stderr"; then
   echo "FAIL: --out on a file: rc $rc"

@@ -15,7 +15,7 @@ work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
 # ~160 steps at 16^3: about 90 of relaxation, then one volume correction (0.3 s; 2 s under ASan).
-args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7
+args=(run --paper --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-7
       --max-volume-corrections 1)
 outputs=(--float32 --mesh ply --no-preview --no-report)
 

@@ -70,7 +70,7 @@ refused() {  # $1: folder, $2: pattern the message must hold
 # Two threads, which the bare --resume must take from the checkpoint (OpenMP's sums round
 # differently on another count); passive waiting, as ctest runs two tests at once.
 export OMP_WAIT_POLICY=PASSIVE
-args=(run --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-8
+args=(run --paper --surface P --volume-fraction 0.3 --grid 16 --epsilon 0.04 --tol 1e-8
       --prerelax-steps 40 --prerelax-epsilon-factor 1.5 --threads 2 --no-preview --no-report)
 "$bin" "${args[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain run"; exit 1; }
 for stage in prerelax volume; do
@@ -128,8 +128,8 @@ def wait_for(cond, proc, limit=120):
         time.sleep(0.001)
     return True
 
-args = [bin, "run", "--surface", "G", "--grid", "64", "--max-steps", "40", "--constrain", "mass",
-        "--mesh", "stl",
+args = [bin, "run", "--paper", "--surface", "G", "--grid", "64", "--max-steps", "40",
+        "--constrain", "mass", "--mesh", "stl",
         "--no-preview", "--no-report", "--checkpoint-every", "0.2", "--quiet"]
 subprocess.run(args + ["--out", f"{work}/out-whole"], check=True)
 out = f"{work}/out-killed"
@@ -151,7 +151,7 @@ check(not left, f"left after the resume: {left}")
 print("killed while writing:", names)
 
 out = f"{work}/twice"
-p = subprocess.Popen([bin, "run", "--surface", "G", "--grid", "96", "--extrapolate",
+p = subprocess.Popen([bin, "run", "--paper", "--surface", "G", "--grid", "96", "--extrapolate",
                       "--checkpoint-every", "0.5", "--no-preview", "--no-report", "--quiet",
                       "--out", out])
 temporary = lambda: glob.glob(f"{out}/checkpoint.bin.cmcsurf-tmp.*")

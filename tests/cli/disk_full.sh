@@ -17,7 +17,7 @@ mkdir -p "$work/tiny"
 mount -t tmpfs -o size=108k tmpfs "$work/tiny"
 trap 'umount "$work/small" "$work/tiny"; rm -rf "$work"' EXIT
 fail=0
-"$bin" run --surface G --grid 32 --max-steps 3 --quiet --out "$work/small/run" 2>"$work/err"
+"$bin" run --paper --surface G --grid 32 --max-steps 3 --quiet --out "$work/small/run" 2>"$work/err"
 rc=$?
 [ "$rc" = 1 ] || { echo "FAIL: exit $rc, expected 1"; fail=1; }
 grep -q "No space left on device" "$work/err" ||
@@ -35,7 +35,8 @@ fi
 # leaves no report.json, and the solved field is kept.
 mkdir -p "$work/page"
 mount -t tmpfs -o size=200k tmpfs "$work/page"
-"$bin" run --surface G --grid 16 --epsilon 0.04 --no-preview --quiet --out "$work/page/run" \
+"$bin" run --paper --surface G --grid 16 --epsilon 0.04 --no-preview --quiet \
+  --out "$work/page/run" \
   2>"$work/err"
 rc=$?
 [ "$rc" = 1 ] && grep -q "report.html.*No space left" "$work/err" ||
@@ -47,7 +48,7 @@ umount "$work/page"
 
 # FILE.json marks a mesh FILE complete: a disk with room for the STL (340 KB for this 16^3
 # gyroid) but not its FILE.json leaves neither (before, the STL stayed, looking complete).
-"$bin" run --surface G --grid 16 --epsilon 0.04 --no-preview --no-report --quiet \
+"$bin" run --paper --surface G --grid 16 --epsilon 0.04 --no-preview --no-report --quiet \
   --out "$work/forMesh" || fail=1
 mount -t tmpfs -o size=340k tmpfs "$work/page"
 "$bin" mesh --from "$work/forMesh" --out "$work/page/m.stl" 2>"$work/err"
@@ -59,7 +60,7 @@ umount "$work/page"
 
 # On 108 KB, a checkpoint does not fit (24^3: phi alone is 110 KB) but the outputs do (a
 # Float32 field of 55 KB): a warning and the run goes on; no checkpoint or temporary stays.
-"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate \
+"$bin" run --paper --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --extrapolate \
   --max-steps 30 --constrain mass --float32 --no-preview --no-report --checkpoint-every 0.01 \
   --quiet --out "$work/tiny/ck" 2>"$work/err"
 rc=$?
@@ -81,7 +82,8 @@ rm -rf "$work/tiny/ck"  # each case starts on the empty 108 KB disk, whatever a 
 
 # SIGTERM when its checkpoint cannot be written: exit 1 saying so, and no report that claims a
 # checkpoint.
-"$bin" run --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --tol 1e-9 --extrapolate \
+"$bin" run --paper --surface P --volume-fraction 0.3 --grid 24 --epsilon 0.05 --tol 1e-9 \
+  --extrapolate \
   --constrain mass --float32 --no-preview --no-report --out "$work/tiny/sig" 2>"$work/err" &
 pid=$!
 for _ in $(seq 1 500); do grep -q "^relax " "$work/err" && break; sleep 0.01; done

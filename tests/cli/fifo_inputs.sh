@@ -23,8 +23,9 @@ expect_refused() {  # expect_refused NAME PATH ARGS...: exits non-zero, not 124,
 }
 # Real folders (so that nothing but the FIFO is wrong), each file then replaced by a FIFO.
 small=(--grid 16 --epsilon 0.04 --max-steps 2 --no-preview --no-report --quiet)
-"$bin" run --surface P "${small[@]}" --out "$work/run" || { echo "FAIL: run"; exit 1; }
-"$bin" sweep --surface G --volume-fractions 0.5 --no-plot "${small[@]}" --out "$work/sweep" ||
+"$bin" run --paper --surface P "${small[@]}" --out "$work/run" || { echo "FAIL: run"; exit 1; }
+"$bin" sweep --paper --surface G --volume-fractions 0.5 --no-plot "${small[@]}" \
+  --out "$work/sweep" ||
   { echo "FAIL: sweep"; exit 1; }
 rm -f "$work/run/checkpoint.bin" "$work/run/report.json" "$work/sweep/sweep.json"
 mkfifo "$work/run/checkpoint.bin" "$work/run/report.json" "$work/sweep/sweep.json"

@@ -7,7 +7,7 @@ export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
   { echo "FAIL: run"; exit 1; }
 # Damage copies of field.vti with Python: a NaN in phi, a truncated file, a header with no end.
 python3 - "$work" <<'PY'

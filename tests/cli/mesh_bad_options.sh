@@ -3,7 +3,7 @@
 # nothing written.
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
   { echo "FAIL: run"; exit 1; }
 before=$(ls "$work/run" | sort)
 expect_usage() { check_usage out.stl "$@"; }  # <option> <args...>
@@ -38,7 +38,8 @@ if [ "$rc" -ne 2 ] || ! grep -q -- --format "$work/stderr"; then
   fail=1
 fi
 # run --mesh with a bad format fails before the run and writes nothing.
-"$bin" run --grid 16 --max-steps 2 --mesh step --out "$work/run2" >/dev/null 2>"$work/stderr"
+"$bin" run --paper --grid 16 --max-steps 2 --mesh step \
+  --out "$work/run2" >/dev/null 2>"$work/stderr"
 rc=$?
 if [ "$rc" -ne 2 ] || ! grep -q -- --mesh "$work/stderr" || [ -e "$work/run2" ]; then
   echo "FAIL: run --mesh step: rc $rc"; cat "$work/stderr"; fail=1

@@ -7,10 +7,12 @@ source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
 command -v python3 >/dev/null || { echo "SKIP: python3 not found"; exit 77; }
 r="$work/run"
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$r" || { echo "FAIL: run"; exit 1; }
-"$bin" run --surface G --grid 16 --max-steps 2 --quiet --out "$work/g" ||
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --quiet --out "$r" \
+  || { echo "FAIL: run"; exit 1; }
+"$bin" run --paper --surface G --grid 16 --max-steps 2 --quiet --out "$work/g" ||
   { echo "FAIL: run G"; exit 1; }
-"$bin" run --surface P --grid 16 --max-steps 2 --volume-fraction 0.4 --quiet --out "$work/p40" \
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --volume-fraction 0.4 --quiet \
+  --out "$work/p40" \
   || { echo "FAIL: run P 0.4"; exit 1; }
 
 # Ranges.

@@ -13,10 +13,11 @@ json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3";
 
 # Quick fields: a few steps at 16^3 (the mesher only needs a periodic field).
 for a in 0.3 0.6; do
-  "$bin" run --surface G --grid 16 --max-steps 3 --volume-fraction "$a" --quiet --out "$work/g$a" \
+  "$bin" run --paper --surface G --grid 16 --max-steps 3 --volume-fraction "$a" --quiet \
+    --out "$work/g$a" \
     || { echo "FAIL: run $a"; exit 1; }
 done
-"$bin" run --surface P --grid 16 --max-steps 3 --quiet --mesh stl --out "$work/p" || fail=1
+"$bin" run --paper --surface P --grid 16 --max-steps 3 --quiet --mesh stl --out "$work/p" || fail=1
 check test -s "$work/p/surface.stl"
 json_has "$work/p/surface.stl.json" euler_characteristic -4
 

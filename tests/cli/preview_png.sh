@@ -8,9 +8,10 @@ bin="$1"
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" run --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 --quiet \
+"$bin" run --paper --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 \
+  --quiet \
   --no-report --out "$work/p"
-"$bin" run --surface sphere --radius 0.3 --grid 16 --epsilon 0.04 --max-steps 5 --quiet \
+"$bin" run --paper --surface sphere --radius 0.3 --grid 16 --epsilon 0.04 --max-steps 5 --quiet \
   --no-report --out "$work/ball"
 /usr/bin/python3 - "$work" "$here/../page" <<'PY'
 import json, sys
@@ -36,7 +37,8 @@ for name, width in [("p", 890), ("ball", 510)]:
     assert sum(min(p) < 100 for r in rows[10:40] for p in r) > 200
 print("preview_png: sizes, panels, colour bar and title passed")
 PY
-"$bin" run --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 3 --quiet \
+"$bin" run --paper --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 3 \
+  --quiet \
   --no-preview --no-report --out "$work/p"
 if [ -e "$work/p/preview.png" ]; then echo "FAIL: --no-preview left a preview.png"; exit 1; fi
 if grep -q preview_seconds "$work/p/report.json"; then
@@ -44,7 +46,8 @@ if grep -q preview_seconds "$work/p/report.json"; then
   exit 1
 fi
 if [ -e "$work/p/report.html" ]; then echo "FAIL: --no-report left a report.html"; exit 1; fi
-"$bin" sweep --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --max-steps 3 --quiet \
+"$bin" sweep --paper --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --max-steps 3 \
+  --quiet \
   --no-plot --no-preview --no-report --out "$work/sweep"
 for f in gallery.png report.html G_0.50/preview.png G_0.50/report.html; do
   if [ -e "$work/sweep/$f" ]; then echo "FAIL: sweep --no-preview --no-report wrote $f"; exit 1; fi

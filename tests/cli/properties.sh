@@ -8,7 +8,7 @@
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
-"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
+"$bin" run --paper --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet --no-preview \
   --no-report --out "$work/g" || { echo "FAIL: the run"; exit 1; }
 
 "$bin" properties --from "$work/g" --compare-nodal --material 110,0.34 --quiet ||
@@ -91,9 +91,9 @@ PY
 
 # The --properties stage of run and sweep: report.json's properties and properties_* scalars
 # (sweep.csv's columns), the same numbers as the command's.
-"$bin" run --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet \
+"$bin" run --paper --surface G --volume-fraction 0.3 --grid 24 --epsilon 0.03 --quiet \
   --no-report --properties-nodal --out "$work/gp" || { echo "FAIL: run --properties"; fail=1; }
-"$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet \
+"$bin" sweep --paper --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet \
   --no-preview --no-report --properties --out "$work/sp" ||
     { echo "FAIL: sweep --properties"; fail=1; }
 "$bin" properties --from "$work/gp" --quiet --out "$work/gp.json" || fail=1

@@ -7,17 +7,18 @@
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 export OMP_NUM_THREADS=1
-"$bin" sweep --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet \
+"$bin" sweep --paper --surface G --volume-fractions 0.3,0.4 --grid 24 --epsilon 0.03 --quiet \
   --no-preview --no-report --properties-grid-check --out "$work/s" ||
   { echo "FAIL: sweep --properties-grid-check"; exit 1; }
-"$bin" run --surface G --volume-fraction 0.5 --grid 16 --epsilon 0.04 --quiet --no-report \
+"$bin" run --paper --surface G --volume-fraction 0.5 --grid 16 --epsilon 0.04 --quiet --no-report \
   --properties-solid sheet --properties-thickness 0.12 --out "$work/t" ||
   { echo "FAIL: run --properties-solid sheet --properties-thickness"; fail=1; }
-"$bin" run --surface G --volume-fraction 0.5 --grid 16 --epsilon 0.04 --quiet --no-report \
+"$bin" run --paper --surface G --volume-fraction 0.5 --grid 16 --epsilon 0.04 --quiet --no-report \
   --no-preview --properties-solid sheet --properties-porosity 0.7 --properties-nodal \
   --out "$work/p" || { echo "FAIL: run --properties-solid sheet --properties-porosity"; fail=1; }
 # A ramp of sheet porosities around one balanced member: the chart's sheet curve.
-"$bin" sweep --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --quiet --no-preview \
+"$bin" sweep --paper --surface G --volume-fractions 0.5 --grid 16 --epsilon 0.04 --quiet \
+  --no-preview \
   --no-report --properties-solid sheet --properties-porosity 0.6,0.75,0.9 --out "$work/r" ||
   { echo "FAIL: sweep --properties-porosity 0.6,0.75,0.9"; fail=1; }
 # A resume of the finished sweep restores the stage from sweep.json: the chart is redrawn.

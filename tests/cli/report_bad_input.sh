@@ -24,7 +24,8 @@ expect 2 "DIR is required"
 expect 2 "is not a directory" "$work/missing"
 mkdir "$work/empty"
 expect 2 "neither report.json" "$work/empty"
-"$bin" run --surface P --grid 16 --epsilon 0.04 --max-steps 3 --quiet --no-preview --no-report \
+"$bin" run --paper --surface P --grid 16 --epsilon 0.04 --max-steps 3 --quiet --no-preview \
+  --no-report \
   --out "$work/run"
 cp -r "$work/run" "$work/badjson"
 echo '{"surface": ' >"$work/badjson/report.json"

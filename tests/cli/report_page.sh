@@ -11,9 +11,11 @@ here=$(cd "$(dirname "$0")" && pwd)
 chromium=$(command -v chromium || command -v chromium-browser || true)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" run --surface G --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 --quiet \
+"$bin" run --paper --surface G --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 40 \
+  --quiet \
   --properties-nodal --out "$work/g"
-"$bin" sweep --surface P --volume-fractions 0.4,0.6 --grid 16 --epsilon 0.04 --max-steps 20 \
+"$bin" sweep --paper --surface P --volume-fractions 0.4,0.6 --grid 16 --epsilon 0.04 \
+  --max-steps 20 \
   --quiet --properties --out "$work/sweep"
 for f in g/report.html g/preview.png g/youngs_modulus.png sweep/report.html sweep/gallery.png \
          sweep/P_0.40/report.html sweep/P_0.60/preview.png sweep/P_0.60/youngs_modulus.png \

@@ -4,7 +4,7 @@ set -eu
 bin="$1"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" run --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 400 \
+"$bin" run --paper --surface P --volume-fraction 0.4 --grid 16 --epsilon 0.04 --max-steps 400 \
   --quiet --out "$work/p"
 for f in report.json history.csv field.vti; do
   [ -s "$work/p/$f" ] || { echo "FAIL: missing $f"; exit 1; }
@@ -41,9 +41,9 @@ print("run_outputs: all passed")
 PY
 # A second run into the same folder replaces the first one's outputs, and leaves none of them
 # behind (here the first run's surface mesh, which the second does not write).
-"$bin" run --surface P --grid 16 --max-steps 3 --mesh stl --quiet --out "$work/again"
+"$bin" run --paper --surface P --grid 16 --max-steps 3 --mesh stl --quiet --out "$work/again"
 [ -s "$work/again/surface.stl" ] || { echo "FAIL: first run wrote no surface.stl"; exit 1; }
-"$bin" run --surface G --grid 16 --max-steps 3 --quiet --out "$work/again"
+"$bin" run --paper --surface G --grid 16 --max-steps 3 --quiet --out "$work/again"
 if [ -e "$work/again/surface.stl" ] || [ -e "$work/again/surface.stl.json" ]; then
   echo "FAIL: the first run's surface mesh was left beside the second run's report"; exit 1
 fi

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# report.json's `parameters` of three fixed runs (the defaults; --fast at 64^3; every run option
-# given another value) equal run_parameters.json beside this script, key for key and in order:
-# written by the build before the run option table (pipeline/run_schema.cpp) existed, so the
-# table maps every option to the key and value it always had. Then a sweep resumed with any one
+# report.json's `parameters` of three fixed runs (--paper, the defaults before the fast mode;
+# --fast at 64^3; every run option given another value) equal run_parameters.json beside this
+# script, key for key and in order: written by the build before the run option table
+# (pipeline/run_schema.cpp) existed, so the table maps every option to the key and value it
+# always had (the keys added since, equilibrium_tol and paper, and --fast's equilibrium rule in
+# place of settle_tol were added to it by hand). Then a sweep resumed with any one
 # of those options changed is refused (exit 2, the option named): resume compares every option
 # of the table by its key, those under the "solver" heading too.
 set -u
@@ -16,13 +18,14 @@ quiet=(--threads 1 --quiet --no-preview --no-report)
 every=(--surface D --volume-fraction 0.4 --grid 16 --epsilon 0.05 --dt-factor 0.25 --stop phi
        --tol 1e-5 --max-steps 2 --smoother lex --constrain mass --volume-tol 1e-3 --radius 0.3
        --seed 7 --mg-tol 1e-8 --mg-rtol 0.02 --mg-rtol-finest 0.2 --coarse-levels 1 --extrapolate
-       --dt-max-factor 4 --settle-tol 1e-4 --max-vcycles 50 --pre-sweeps 3 --post-sweeps 1
+       --dt-max-factor 4 --settle-tol 1e-4 --equilibrium-tol 2e-3 --max-vcycles 50 --pre-sweeps 3
+       --post-sweeps 1
        --prerelax-steps 2 --prerelax-epsilon-factor 4 --bisection-tol 1e-5 --bisection-max-it 40
        --max-volume-corrections 4)
 
-"$bin" run --grid 16 --max-steps 2 --out "$work/default" "${quiet[@]}" || fail=1
+"$bin" run --paper --grid 16 --max-steps 2 --out "$work/default" "${quiet[@]}" || fail=1
 "$bin" run --grid 64 --fast --max-steps 1 --out "$work/fast" "${quiet[@]}" || fail=1
-"$bin" run "${every[@]}" --out "$work/every" "${quiet[@]}" || fail=1
+"$bin" run --paper "${every[@]}" --out "$work/every" "${quiet[@]}" || fail=1
 python3 - "$here/run_parameters.json" "$work" <<'EOF' || fail=1
 import json, sys
 expected = json.load(open(sys.argv[1]))
@@ -32,7 +35,7 @@ for name, want in expected.items():
 EOF
 
 # One sweep, then a resume per option (each refused before any work).
-"$bin" sweep --grid 8 --surface G --volume-fractions 0.5 --max-steps 3 --out "$work/sweep" \
+"$bin" sweep --paper --grid 8 --surface G --volume-fractions 0.5 --max-steps 3 --out "$work/sweep" \
   "${quiet[@]}" >/dev/null 2>&1 || { echo "FAIL: the sweep"; exit 1; }
 i=4  # --grid onwards: a sweep has lists of surfaces and volume fractions
 while [ $i -lt ${#every[@]} ]; do

@@ -14,7 +14,7 @@ json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3";
 common=(--grid 16 --cell-size 2 --units mm --cache "$work/cache" --quiet)
 
 # A graded part: porosity 0.8 -> 0.6 along z from members computed at 0.2, 0.3, 0.4.
-"$bin" scaffold --surface G --porosity 0.8:0.6 --axis z --size 4x4x6 "${common[@]}" \
+"$bin" scaffold --paper --surface G --porosity 0.8:0.6 --axis z --size 4x4x6 "${common[@]}" \
   --out "$work/graded_part.stl" || { echo "FAIL: scaffold graded"; fail=1; }
 json_has "$work/graded_part.stl.json" closed true
 python3 - "$work/graded_part.stl.json" <<'PY' || { echo "FAIL: graded profile"; fail=1; }
@@ -43,7 +43,7 @@ with open(sys.argv[1], "w") as f:
     f.write("endsolid block\n")
 PY
 for skin in 0 0.1; do
-  "$bin" scaffold --surface G --porosity 0.6 --shape "$work/block.stl" --skin "$skin" \
+  "$bin" scaffold --paper --surface G --porosity 0.6 --shape "$work/block.stl" --skin "$skin" \
     --grid 16 --cell-size 2 --cache "$work/cache" --quiet --out "$work/shape$skin.stl" \
     || { echo "FAIL: scaffold --shape --skin $skin"; fail=1; }
   json_has "$work/shape$skin.stl.json" closed true
@@ -92,7 +92,8 @@ with open(sys.argv[1], "wb") as out:
             out.write(struct.pack("<3f", *(4 + 3 * x for x in v[q])))
         out.write(b"\0\0")
 PY
-"$bin" scaffold --surface G --porosity 0.6 --shape "$work/ball.stl" --compare-nodal --grid 16 \
+"$bin" scaffold --paper --surface G --porosity 0.6 --shape "$work/ball.stl" --compare-nodal \
+  --grid 16 \
   --cell-size 2 --cache "$work/cache" --quiet --out "$work/ball_part.stl" \
   || { echo "FAIL: scaffold --shape ball.stl"; fail=1; }
 /usr/bin/python3 - "$work" <<'PY' || { echo "FAIL: curved shape values"; fail=1; }
@@ -129,7 +130,8 @@ print(f"scaffold_modes: sphere of volume {volume:.3f}: porosity {r['porosity']:.
 PY
 # graded --help's example with members computed for 0.3 .. 0.6 (fractions within 1e-4).
 for a in 30 40 50 60; do
-  "$bin" run --surface G --grid 16 --volume-fraction "0.$a" --quiet --no-report --no-preview \
+  "$bin" run --paper --surface G --grid 16 --volume-fraction "0.$a" --quiet --no-report \
+    --no-preview \
     --out "$work/g$a" || { echo "FAIL: run 0.$a"; fail=1; }
 done
 (cd "$work" && "$bin" graded --members g30,g40,g50,g60 --axis z --from-fraction 0.3 \

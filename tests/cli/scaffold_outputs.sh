@@ -12,7 +12,7 @@ check() { if ! "$@"; then echo "FAIL: $*"; fail=1; fi; }
 json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3"; fail=1; }; }
 common=(--grid 16 --cell-size 2 --units mm --cache "$work/cache" --quiet)
 
-"$bin" scaffold --surface G --porosity 0.7 --solid network --size 5x4x3 "${common[@]}" \
+"$bin" scaffold --paper --surface G --porosity 0.7 --solid network --size 5x4x3 "${common[@]}" \
   --compare-nodal --out "$work/net.3mf" || { echo "FAIL: scaffold network"; fail=1; }
 check test -s "$work/net.3mf"
 json_has "$work/net.3mf.json" closed true
@@ -21,11 +21,12 @@ json_has "$work/net.3mf.json" x true
 json_has "$work/net.3mf.json" closed_pores 0
 check test "$(ls "$work/cache")" != ""
 # The same member again: reused, not recomputed.
-"$bin" scaffold --surface G --porosity 0.7 --solid network --size 4 --grid 16 --cell-size 2 \
+"$bin" scaffold --paper --surface G --porosity 0.7 --solid network --size 4 --grid 16 \
+  --cell-size 2 \
   --cache "$work/cache" --out "$work/again.stl" 2>"$work/again.txt" || fail=1
 check grep -q "reusing the member" "$work/again.txt"
 json_has "$work/again.stl.json" reused true
-"$bin" scaffold --surface P --porosity 0.6 --solid sheet --size 4x4x5 "${common[@]}" \
+"$bin" scaffold --paper --surface P --porosity 0.6 --solid sheet --size 4x4x5 "${common[@]}" \
   --min-feature 5 --out "$work/sheet.stl" 2>"$work/sheet.txt" ||
     { echo "FAIL: scaffold sheet"; fail=1; }
 json_has "$work/sheet.stl.json" closed true
@@ -55,7 +56,8 @@ assert all(s in model for s in ('unit="millimeter"', "<build", "<item ", 'name="
     model[:600]
 PY
 # Decimation to a budget: applied, within it, still a closed manifold.
-"$bin" scaffold --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" --max-triangles 20000 \
+"$bin" scaffold --paper --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" \
+  --max-triangles 20000 \
   --out "$work/small.stl" || { echo "FAIL: scaffold --max-triangles"; fail=1; }
 json_has "$work/small.stl.json" applied true
 json_has "$work/small.stl.json" within_budget true
@@ -63,7 +65,8 @@ json_has "$work/small.stl.json" closed true
 json_has "$work/small.stl.json" manifold true
 check test "$(stat -c %s "$work/small.stl")" -le $((84 + 50 * 20000))
 # A budget the part already meets: nothing attempted, no warning, the report says why.
-"$bin" scaffold --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" --max-triangles 10000000 \
+"$bin" scaffold --paper --surface G --porosity 0.7 --size 4x4x3 "${common[@]}" \
+  --max-triangles 10000000 \
   --out "$work/big.stl" 2>"$work/big.txt" || { echo "FAIL: scaffold --max-triangles 1e7"; fail=1; }
 json_has "$work/big.stl.json" attempts 0
 json_has "$work/big.stl.json" applied false
@@ -71,12 +74,12 @@ check grep -q '"note": "the input is within the budget' "$work/big.stl.json"
 check test ! -s "$work/big.txt"
 # A closed-cell design (P at porosity 0.05: isolated pores) is refused, and nothing written:
 # first as a member of another topology than P's, then, taken anyway, as closed.
-"$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
+"$bin" scaffold --paper --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --out "$work/closed.stl" 2>"$work/closed.txt"
 rc=$?
 check test "$rc" -eq 1
 check grep -q "Euler characteristic" "$work/closed.txt"
-"$bin" scaffold --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
+"$bin" scaffold --paper --surface P --porosity 0.05 --max-steps 20 --size 4 "${common[@]}" \
   --accept-topology-change --out "$work/closed.stl" 2>"$work/closed.txt"
 rc=$?
 check test "$rc" -eq 1

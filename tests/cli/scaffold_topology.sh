@@ -67,7 +67,7 @@ compgen -G "$work/f.stl*" >/dev/null && { echo "FAIL: f.stl written"; fail=1; }
   { echo "FAIL: --accept-topology-change"; fail=1; }
 
 # mesh --from a run folder whose report says the same.
-"$bin" run --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
+"$bin" run --paper --surface P --grid 16 --max-steps 2 --quiet --out "$work/run" ||
   { echo "FAIL: run"; exit 1; }
 "$bin" mesh --from "$work/run" --solid network --quiet --out "$work/m0.stl" ||
   { echo "FAIL: mesh of an unchanged member"; fail=1; }
@@ -92,7 +92,7 @@ done
 # The tester's case: a P network at porosity 0.8 ends on separate balls (chi 1) at --grid 32.
 # Refused by its topology; with --accept-topology-change, by its 26 fragments (removing them
 # would leave porosity 0.975, and no level brings it back).
-real=(scaffold --surface P --solid network --porosity 0.8 --cell-size 2 --size 4 --grid 32
+real=(scaffold --paper --surface P --solid network --porosity 0.8 --cell-size 2 --size 4 --grid 32
       --cache "$cache")
 "$bin" "${real[@]}" --out "$work/r.stl" >/dev/null 2>"$work/err"
 rc=$?

@@ -5,7 +5,8 @@ set -eu
 bin="$1"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" sweep --surface G --volume-fractions 0.3,0.35 --grid 32 --epsilon 0.02 --continuation \
+"$bin" sweep --paper --surface G --volume-fractions 0.3,0.35 --grid 32 --epsilon 0.02 \
+  --continuation \
   --no-plot --quiet --out "$work/s" 2>"$work/stderr" || { cat "$work/stderr"; exit 1; }
 python3 - "$work/s" <<'PY'
 import json, sys

@@ -5,7 +5,7 @@ set -eu
 bin="$1"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" sweep --surface P,D --volume-fractions 0.4:0.6:0.2 --grid 16 --epsilon 0.04 \
+"$bin" sweep --paper --surface P,D --volume-fractions 0.4:0.6:0.2 --grid 16 --epsilon 0.04 \
   --max-steps 100 --quiet --out "$work/s" 2>"$work/stderr" || { cat "$work/stderr"; exit 1; }
 for m in P_0.40 P_0.60 D_0.40 D_0.60; do
   for f in report.json field.vti history.csv curvature_histogram.csv; do

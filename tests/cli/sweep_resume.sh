@@ -10,7 +10,7 @@ support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timin
 work=$(mktemp -d)
 trap 'kill -9 $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 fail=0
-args=(sweep --surface P --volume-fractions 0.3,0.4,0.5 --grid 32 --tol 1e-7 --continuation
+args=(sweep --paper --surface P --volume-fractions 0.3,0.4,0.5 --grid 32 --tol 1e-7 --continuation
       --no-plot --no-preview --no-report)
 "$bin" "${args[@]}" --quiet --out "$work/whole" || { echo "FAIL: the plain sweep"; exit 1; }
 

@@ -9,7 +9,8 @@ export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
-"$bin" sweep --surface P --volume-fractions 0.3,0.4,0.5 --grid 16 --epsilon 0.04 --tol 1e-6 \
+"$bin" sweep --paper --surface P --volume-fractions 0.3,0.4,0.5 --grid 16 --epsilon 0.04 \
+  --tol 1e-6 \
   --no-plot --no-report --quiet --out "$work/whole" || { echo "FAIL: the plain sweep"; exit 1; }
 [ -s "$work/whole/gallery.png" ] || { echo "FAIL: no gallery.png"; exit 1; }
 

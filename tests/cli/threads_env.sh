@@ -12,7 +12,7 @@ done
 OMP_NUM_THREADS=100000 check_usage out OMP_NUM_THREADS run --grid 16 --threads 1
 # Accepted: a count, a nesting list, spaces around them.
 for good in 1 " 2 " "1,1"; do
-  OMP_NUM_THREADS="$good" "$bin" run --grid 16 --max-steps 1 --quiet --no-preview \
+  OMP_NUM_THREADS="$good" "$bin" run --paper --grid 16 --max-steps 1 --quiet --no-preview \
     --no-report --out "$work/good" >/dev/null 2>"$work/stderr" ||
     { echo "FAIL: OMP_NUM_THREADS='$good' refused"; cat "$work/stderr"; fail=1; }
   rm -rf "$work/good"

@@ -23,7 +23,8 @@ echo "$out" | grep -q "check(s) FAILED" || { echo "FAIL: no failure summary"; ec
 rc=0
 "$bin" verify --only cube --cube-steps 0 >/dev/null 2>&1 || rc=$?
 [ "$rc" -eq 2 ] || { echo "FAIL: --cube-steps 0 exited $rc, want 2"; exit 1; }
-"$bin" run --surface G --grid 16 --epsilon 0.04 --smoother lex --constrain mass --max-steps 20 \
+"$bin" run --paper --surface G --grid 16 --epsilon 0.04 --smoother lex --constrain mass \
+  --max-steps 20 \
   --quiet --out "$work/lex"
 grep -q '"smoother": "lex"' "$work/lex/report.json" || { echo "FAIL: lex run report"; exit 1; }
 echo "verify_surfaces: all passed"
