@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace cmcsurf {
 
@@ -15,6 +17,25 @@ double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] *
 
 double triangle_area(const TriMesh& m, const std::array<std::uint32_t, 3>& t) {
   return 0.5 * norm(cross(mesh_edge(m, t[0], t[1]), mesh_edge(m, t[0], t[2])));
+}
+
+// The sum of term(i), i < n, in fixed blocks added in order: the same bits for any thread
+// count (a reduction's rounding depends on how the threads split the loop, and a part's
+// level is solved on its volume, so its vertices moved with OMP_NUM_THREADS).
+template <class Term>
+double ordered_sum(std::size_t n, const Term& term) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<double> partial(blocks, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    double s = 0.0;
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) s += term(i);
+    partial[b] = s;
+  }
+  double s = 0.0;
+  for (const double x : partial) s += x;
+  return s;
 }
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
@@ -92,10 +113,8 @@ Vec3 mesh_edge(const TriMesh& m, std::uint32_t a, std::uint32_t b) {
 }
 
 double mesh_area(const TriMesh& m) {
-  double s = 0.0;
-#pragma omp parallel for reduction(+ : s) schedule(static)
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) s += triangle_area(m, m.triangles[t]);
-  return s;
+  return ordered_sum(m.triangles.size(),
+                     [&](std::size_t t) { return triangle_area(m, m.triangles[t]); });
 }
 
 double mesh_volume(const TriMesh& m) {
@@ -107,16 +126,14 @@ double mesh_volume(const TriMesh& m) {
       for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], v[c]), hi[c] = std::max(hi[c], v[c]);
     for (int c = 0; c < 3; ++c) o[c] = 0.5 * (lo[c] + hi[c]);
   }
-  double s = 0.0;
-#pragma omp parallel for reduction(+ : s) schedule(static)
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+  const double s = ordered_sum(m.triangles.size(), [&](std::size_t t) {
     const auto& tri = m.triangles[t];
     Vec3 p[3];
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) p[k][c] = m.vertices[tri[k]][c] - o[c];
     const Vec3 bc = cross(p[1], p[2]);
-    s += p[0][0] * bc[0] + p[0][1] * bc[1] + p[0][2] * bc[2];
-  }
+    return p[0][0] * bc[0] + p[0][1] * bc[1] + p[0][2] * bc[2];
+  });
   return s / 6.0;
 }
 
