@@ -70,13 +70,15 @@ grep -q "reachable .* GPa (porosity 0.5 .. 0.9" "$work/soft.err" ||
 compgen -G "$work/soft.stl*" >/dev/null && { echo "FAIL: wrote soft.stl"; fail=1; }
 
 # A graded sheet (its one member cached above): the wall grades the porosity 0.8 -> 0.6 along z,
-# each cell's node porosity within 0.01 of the ramp, the mean within the sheet's 1e-4.
+# each cell's node porosity within 0.01 of the ramp, the mean within the sheet's 1e-4 before the
+# default decimation (0.01 mm) and within 5e-4 after it (measured 1.4e-4).
 "$bin" scaffold "${common[@]}" --solid sheet --porosity 0.8:0.6 --axis z --size 2x2x6 --quiet \
   --out "$work/graded.stl" || { echo "FAIL: graded sheet"; fail=1; }
 python3 - "$work/graded.stl.json" <<'PY' || fail=1
 import json, sys
 r = json.load(open(sys.argv[1]))
-assert abs(r["porosity"] - 0.7) < 1e-4, r["porosity"]
+assert abs(r["porosity_unsimplified"] - 0.7) < 1e-4, r["porosity_unsimplified"]
+assert abs(r["porosity"] - 0.7) < 5e-4, r["porosity"]
 prof = r["graded"]["profile"]
 assert len(prof) == 3, prof
 for b in prof:
