@@ -124,6 +124,15 @@ void restore_output_options(RunCommand& cmd, const CLI::App& app, const nlohmann
                                  file.string(), cmd.checkpoints.every));
 }
 
+// 1 - chi is the surface's genus only when both phases are connected (a double structure's
+// phase 1 is two networks); -1 components: not counted (a decomposed grid), as before.
+std::string genus_text(const Measures& m) {
+  if (m.components_phase1 > 1 || m.components_phase2 > 1)
+    return fmt::format("{} and {} components of phase 1 and 2: no single genus",
+                       m.components_phase1, m.components_phase2);
+  return fmt::format("genus {}", 1 - m.euler_characteristic);
+}
+
 void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
                    const nlohmann::json& report, const std::filesystem::path& dir) {
   std::cerr << fmt::format(
@@ -134,14 +143,14 @@ void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& qua
   std::cerr << fmt::format(
       "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction {:.5f}\n"
       "local H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  (measures {:.2f} s, quality "
-      "{:.2f} s)\nphase 1: Euler characteristic {} (genus {}) per unit cell\nwrote "
+      "{:.2f} s)\nphase 1: Euler characteristic {} ({}) per unit cell\nwrote "
       "{}/report.json, history.csv, {}\n",
       r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
       plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
       r.final.volume_fraction, quality.relaxed.std,
       quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
       r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
-      r.final.euler_characteristic, 1 - r.final.euler_characteristic, dir.string(),
+      r.final.euler_characteristic, genus_text(r.final), dir.string(),
       report.value("mpi_ranks", 1) > 1 ? "field.pvti (field/: one piece per process)"
                                        : "field.vti");
   if (p.epsilon * p.grid < 1.0) {  // docs/method.md, "Sharp measures": where they are weak
