@@ -272,7 +272,7 @@ Field member_field(const ScaffoldCommand& cmd, const RunParams& p,
   return std::move(r.phi);
 }
 
-// A member of another topology than its family's is not the lattice asked for (issue 23).
+// A member of another topology than its family's is not the lattice asked for.
 void check_topology(const ScaffoldCommand& cmd, const nlohmann::json& about) {
   const auto t = member_topology(about.value("run", nlohmann::json()));
   if (!t) return;

@@ -57,10 +57,10 @@ struct RunParams {
   double volume_tol = 1e-4;
   int max_volume_corrections = 8;
   StepSolverOptions solver;
-  // Coarse-to-fine continuation (issue 5, off by default): run the algorithm on N/2^K first,
+  // Coarse-to-fine continuation (0: off; the fast mode chooses it): run on N/2^K first,
   // then interpolate and relax on each finer grid. Nodal surfaces only.
   int coarse_levels = 0;
-  // Adaptive time steps (issue 5, off when 0): within each relaxation at epsilon, dt starts at
+  // Adaptive time steps (0: off; the fast mode chooses it): in each relaxation dt starts at
   // dt_factor h and doubles after every step whose V-cycles converged, up to dt_max_factor h;
   // a step that hits --max-vcycles halves it. The convex splitting is stable for any dt and
   // its fixed points do not depend on dt, so only the path to the equilibrium changes.

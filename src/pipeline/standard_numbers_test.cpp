@@ -38,7 +38,7 @@ TEST(StandardNumbers, HomogeneityIndexAndGaussBonnetAtHalf) {
     EXPECT_EQ(j["components_phase1"], 1) << e.surface;
     EXPECT_EQ(j["components_phase2"], 1) << e.surface;
     EXPECT_DOUBLE_EQ(j["genus_surface"].get<double>(), 1.0 - e.chi / 2.0) << e.surface;
-    // Issue 28's tolerances: Gamma within 0.3 %, Gauss-Bonnet within 2 %.
+    // The tolerances users were promised: Gamma within 0.3 %, Gauss-Bonnet within 2 %.
     EXPECT_NEAR(j["homogeneity_index"].get<double>() / e.gamma, 1.0, 3e-3) << e.surface;
     EXPECT_LT(std::abs(j["gauss_bonnet_error"].get<double>()), 0.02) << e.surface;
     // A minimal surface: <K> = 2 pi chi / A, and H ~ 0 leaves the Willmore energy small

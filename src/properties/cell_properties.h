@@ -1,4 +1,4 @@
-// Properties of a periodic unit cell of composite voxels (issue 25, item 2): the effective
+// Properties of a periodic unit cell of composite voxels: the effective
 // stiffness and its engineering constants, the conductivities of the solid and of the pore
 // space, Hashin-Shtrikman upper bounds beside them, and percolation along the axes.
 // Units and notation: voxel_element.h (Voigt 11 22 33 23 13 12; C / E_s; k / k_s; the pore
