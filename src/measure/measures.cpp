@@ -297,19 +297,29 @@ double mean_curvature_ref(const Field& phi) {
 // Section 2.5 with mu = 6 sqrt2 nu / eps and the Gibbs-Thomson factor H = mu/2 = 3 sqrt2 nu / eps
 // (not the paper's mu/3, see measures.h), averaged with weight |grad_d phi|^2,
 // nu = W'(phi) - eps^2 Lap_d phi (7-point Laplacian of Section 3).
-double mean_curvature_mu(const Field& phi, double epsilon) {
-  require_ghost(phi, 2, "mean_curvature_mu");
+namespace {
+
+// The sums of nu |grad_d phi|^2 and |grad_d phi|^2 over the cells: the weighted mean of nu that
+// mean_curvature_mu reports and equilibrium_residual measures the spread around.
+std::pair<double, double> weighted_nu_sums(const Field& phi, double epsilon) {
   CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double inv_h2 = 1.0 / (h * h);
   const double eps2 = epsilon * epsilon;
-  const auto [sum_nw, sum_w] = sum_cells2(phi, [=](const double* p, double& nw, double& w) {
+  return sum_cells2(phi, [=](const double* p, double& nw, double& w) {
     const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
     const double g = grad4_sq_scaled(p, sy, sz);
     nw += nu * g;
     w += g;
   });
+}
+
+}  // namespace
+
+double mean_curvature_mu(const Field& phi, double epsilon) {
+  require_ghost(phi, 2, "mean_curvature_mu");
+  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
   if (sum_w == 0.0) return 0.0;
   return 3.0 * std::numbers::sqrt2 / epsilon * sum_nw / sum_w;  // H = mu/2
 }
@@ -342,11 +352,7 @@ double equilibrium_residual(const Field& phi, double epsilon) {
   const double inv_h2 = 1.0 / (h * h);
   const double eps2 = epsilon * epsilon;
   // Two passes, the mean first: the spread is small beside nu itself.
-  const auto [sum_nw, sum_w] = sum_cells2(phi, [=](const double* p, double& nw, double& w) {
-    const double g = grad4_sq_scaled(p, sy, sz);
-    nw += (double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2)) * g;
-    w += g;
-  });
+  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
   if (sum_w == 0.0) return 0.0;
   const double mean_nu = sum_nw / sum_w;
   const double sum_dw = sum_cells(phi, [=](const double* p) {
