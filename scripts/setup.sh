@@ -21,7 +21,9 @@ packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-
           libstb-dev fonts-dejavu-core
           # Periodic tetrahedral meshes (volume-mesh, docs/meshing.md): CGAL's periodic mesher,
           # Eigen for the tests' P1 solver, meshio and gmsh to read the files back in the tests.
-          libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev python3-meshio python3-h5py gmsh)
+          libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev python3-meshio python3-h5py gmsh
+          # XDMF's heavy data in HDF5 (the .h5 file FEniCS reads).
+          libhdf5-dev)
 command -v npm >/dev/null || packages+=(nodejs npm)
 # Test-only tools (scripts/test.sh adds python3-vtk9, VTK's own reader of field.vti, and
 # chromium, the headless browser that opens report.html).

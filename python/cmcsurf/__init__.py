@@ -374,6 +374,7 @@ def volume_mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     facet_distance: Optional[float] = None,
+    cut: str = "flat",
     format: str = "",
     threads: int = 0,
 ) -> Dict[str, Any]:
@@ -391,7 +392,8 @@ def volume_mesh(
         raise TypeError(f"tile: got {tile!r}; accepted: an int A or three ints (A, B, C)")
     options = {"solid": solid, "porosity": porosity, "thickness": thickness, "tile": tile_spec,
                "cell_size": cell_size, "units": units, "size": size, "size_min": size_min,
-               "size_max": size_max, "facet_distance": facet_distance, "format": format}
+               "size_max": size_max, "facet_distance": facet_distance, "cut": cut,
+               "format": format}
     return _cmcsurf.volume_mesh(source, str(out), options, threads)
 
 

@@ -898,8 +898,8 @@ std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handl
 
 // cmcsurf volume-mesh of a Result or an (N, N, N) field (mesh/volume_mesh.h): writes `out`
 // and out.json as the command does and returns the report. options: solid, porosity,
-// thickness, tile, cell_size, units, size, size_min, size_max, facet_distance, format (None:
-// not given).
+// thickness, tile, cell_size, units, size, size_min, size_max, facet_distance, cut, format
+// (None: not given).
 py::object volume_mesh(py::handle source, const std::string& out, const py::dict& options,
                        py::handle threads) {
   std::optional<Field> owned;
@@ -923,6 +923,7 @@ py::object volume_mesh(py::handle source, const std::string& out, const py::dict
     else if (key == "tile") o.tile = string_option(v, key);
     else if (key == "units") o.units = string_option(v, key);
     else if (key == "format") format = string_option(v, key);
+    else if (key == "cut") o.cut = string_option(v, key);
     else if (key == "porosity") o.porosity = real_option(v, key);
     else if (key == "thickness") o.thickness = real_option(v, key);
     else if (key == "cell_size") o.cell_size = real_option(v, key);

@@ -29,6 +29,8 @@ def test_volume_mesh_writes_a_paired_mesh_and_its_report(gyroid_result, tmp_path
     assert r["checks"]["pair_mismatch"] <= 1e-12
     assert abs(r["volume_relative_error"]) < 0.005
     assert r["pairing"]["period"] == [4.0, 2.0, 2.0]
+    assert r["cut"]["faces"] == "flat" and r["checks"]["unmirrored_faces"] == 0
+    assert r["checks"]["periodic_faces_off_plane"] == 0
 
 
 def test_volume_mesh_of_an_array_and_its_errors(gyroid_result, tmp_path):
@@ -39,6 +41,8 @@ def test_volume_mesh_of_an_array_and_its_errors(gyroid_result, tmp_path):
         cmcsurf.volume_mesh(phi, tmp_path / "x.msh", "network", porosity=0.5)
     with pytest.raises(ValueError, match="--size"):
         cmcsurf.volume_mesh(phi, tmp_path / "x.msh", size=0.9)
+    with pytest.raises(ValueError, match="--cut"):
+        cmcsurf.volume_mesh(phi, tmp_path / "x.msh", cut="round")
     with pytest.raises(ValueError, match="format"):
         cmcsurf.volume_mesh(phi, tmp_path / "x.stl")
     assert not list(tmp_path.glob("x.*"))

@@ -10,6 +10,10 @@
 #include "common/wall_clock.h"
 #include "io/atomic_file.h"
 
+#ifdef CMCSURF_HAVE_HDF5
+#include <hdf5.h>
+#endif
+
 namespace cmcsurf {
 
 namespace {
@@ -150,30 +154,75 @@ void write_vtu(const TetMesh& m, std::ostream& os, const std::string& title) {
   os << s;
 }
 
-void write_xdmf(const TetMesh& m, std::ostream& os, const std::string& title) {
+// The heavy data's datasets, as XDMF names them (h5: the HDF5 file; empty: inline XML).
+constexpr const char* kTopology = "/topology";
+constexpr const char* kGeometry = "/geometry";
+constexpr const char* kPeriodicMaster = "/periodic_master";
+
+void write_xdmf(const TetMesh& m, std::ostream& os, const std::string& title,
+                const std::string& h5) {
   std::string s;
   auto out = std::back_inserter(s);
+  const char* format = h5.empty() ? "XML" : "HDF";
+  // A DataItem's body: the values inline, or where they are in the HDF5 file.
+  auto body = [&](const char* dataset, const auto& write_inline) {
+    if (h5.empty())
+      write_inline();
+    else
+      fmt::format_to(out, "{}:{}\n", h5, dataset);
+  };
   fmt::format_to(out, "<?xml version=\"1.0\"?>\n<!-- {} -->\n", title);
   fmt::format_to(out, "<Xdmf Version=\"3.0\">\n<Domain>\n<Grid Name=\"solid\" "
                       "GridType=\"Uniform\">\n");
   fmt::format_to(out, "<Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"{}\">\n"
                       "<DataItem Dimensions=\"{} 4\" NumberType=\"Int\" Precision=\"8\" "
-                      "Format=\"XML\">\n",
-                 m.tets.size(), m.tets.size());
-  for (const auto& t : m.tets) fmt::format_to(out, "{} {} {} {}\n", t[0], t[1], t[2], t[3]);
+                      "Format=\"{}\">\n",
+                 m.tets.size(), m.tets.size(), format);
+  body(kTopology, [&] {
+    for (const auto& t : m.tets) fmt::format_to(out, "{} {} {} {}\n", t[0], t[1], t[2], t[3]);
+  });
   fmt::format_to(out, "</DataItem>\n</Topology>\n<Geometry GeometryType=\"XYZ\">\n"
                       "<DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
-                      "Format=\"XML\">\n",
-                 m.nodes.size());
-  for (const auto& x : m.nodes) fmt::format_to(out, "{:.17g} {:.17g} {:.17g}\n", x[0], x[1], x[2]);
+                      "Format=\"{}\">\n",
+                 m.nodes.size(), format);
+  body(kGeometry, [&] {
+    for (const auto& x : m.nodes)
+      fmt::format_to(out, "{:.17g} {:.17g} {:.17g}\n", x[0], x[1], x[2]);
+  });
   fmt::format_to(out, "</DataItem>\n</Geometry>\n<Attribute Name=\"periodic_master\" "
                       "AttributeType=\"Scalar\" Center=\"Node\">\n<DataItem Dimensions=\"{}\" "
-                      "NumberType=\"Int\" Precision=\"8\" Format=\"XML\">\n",
-                 m.nodes.size());
-  for (auto v : master_of(m)) fmt::format_to(out, "{}\n", v);
+                      "NumberType=\"Int\" Precision=\"8\" Format=\"{}\">\n",
+                 m.nodes.size(), format);
+  body(kPeriodicMaster, [&] {
+    for (auto v : master_of(m)) fmt::format_to(out, "{}\n", v);
+  });
   fmt::format_to(out, "</DataItem>\n</Attribute>\n</Grid>\n</Domain>\n</Xdmf>\n");
   os << s;
 }
+
+#ifdef CMCSURF_HAVE_HDF5
+// The XDMF file's heavy data: nodes (float64 N x 3), tets (int64 T x 4, 0-based) and
+// periodic_master (int64 N).
+void write_xdmf_h5(const TetMesh& m, const std::filesystem::path& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are thrown, not printed
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error(fmt::format("cannot create '{}'", path.string()));
+  bool ok = true;
+  auto put = [&](const char* name, hid_t type, std::vector<hsize_t> dims, const void* data) {
+    const hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+    const hid_t set = H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ok = ok && set >= 0 && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+    if (set >= 0) H5Dclose(set);
+    H5Sclose(space);
+  };
+  const std::vector<std::int64_t> master = master_of(m);
+  put(kTopology, H5T_NATIVE_INT64, {m.tets.size(), 4}, m.tets.data());
+  put(kGeometry, H5T_NATIVE_DOUBLE, {m.nodes.size(), 3}, m.nodes.data());
+  put(kPeriodicMaster, H5T_NATIVE_INT64, {m.nodes.size()}, master.data());
+  ok = H5Fclose(file) >= 0 && ok;
+  if (!ok) throw std::runtime_error(fmt::format("cannot write '{}' (HDF5)", path.string()));
+}
+#endif
 
 }  // namespace
 
@@ -217,30 +266,73 @@ TetMeshFormat tet_mesh_format(const std::string& format, const std::filesystem::
       fmt::format("got '{}'; accepted: {}", f, tet_mesh_format_list()));
 }
 
+bool xdmf_hdf5_available() {
+#ifdef CMCSURF_HAVE_HDF5
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::filesystem::path xdmf_heavy_data_path(const std::filesystem::path& xdmf) {
+  std::filesystem::path h5 = xdmf;
+  return h5.replace_extension(".h5");
+}
+
 void write_tet_mesh_with_report(const TetMesh& m, TetMeshFormat f,
                                 const std::filesystem::path& path, const std::string& title,
                                 nlohmann::json report) {
+  namespace fs = std::filesystem;
   const auto t0 = WallClock::now();
   if (path.has_parent_path()) ensure_directory(path.parent_path());
+  // XDMF's heavy data, written by the HDF5 library under a temporary name of its own.
+  const bool h5 = f == TetMeshFormat::kXdmf && xdmf_hdf5_available();
+  const fs::path h5_path = xdmf_heavy_data_path(path);
+  const fs::path h5_temp = h5 ? temporary_name(h5_path) : fs::path();
+  struct RemoveOnExit {
+    fs::path path;
+    ~RemoveOnExit() {
+      std::error_code ec;
+      if (!path.empty()) fs::remove(path, ec);
+    }
+  } cleanup{h5_temp};
+#ifdef CMCSURF_HAVE_HDF5
+  if (h5) write_xdmf_h5(m, h5_temp);
+#endif
   AtomicWriter w(path);
   switch (f) {
     case TetMeshFormat::kMsh: write_msh(m, w.stream(), title); break;
     case TetMeshFormat::kInp: write_inp(m, w.stream(), title); break;
     case TetMeshFormat::kVtu: write_vtu(m, w.stream(), title); break;
-    case TetMeshFormat::kXdmf: write_xdmf(m, w.stream(), title); break;
+    case TetMeshFormat::kXdmf:
+      write_xdmf(m, w.stream(), title, h5 ? h5_path.filename().string() : std::string());
+      break;
   }
   w.finish_writing();
   report["file"] = path.filename().string();
-  report["file_bytes"] = std::filesystem::file_size(w.temp_path());
+  report["file_bytes"] = fs::file_size(w.temp_path());
   report["format"] = tet_mesh_format_name(f);
-  if (f == TetMeshFormat::kXdmf) report["xdmf_data"] = "inline XML (no HDF5 file)";
+  if (f == TetMeshFormat::kXdmf) {
+    report["xdmf_data"] = h5 ? "HDF5" : "inline XML (no HDF5 file: built without libhdf5-dev)";
+    if (h5) {
+      report["heavy_data_file"] = h5_path.filename().string();
+      report["heavy_data_bytes"] = fs::file_size(h5_temp);
+    }
+  }
   report["write_seconds"] = seconds_since(t0);
   report["version"] = CMCSURF_VERSION;
-  // FILE.json marks FILE complete: both are whole under temporary names before either is
-  // renamed, FILE first.
+  // FILE.json marks FILE complete: all are whole under temporary names before any is renamed,
+  // the heavy data and FILE first.
   AtomicWriter json(path.string() + ".json");
   json.stream() << report.dump(2) << '\n';
   json.finish_writing();
+  if (h5) {
+    std::error_code ec;
+    fs::rename(h5_temp, h5_path, ec);
+    if (ec)
+      throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", h5_temp.string(),
+                                           h5_path.string(), ec.message()));
+  }
   w.commit();
   json.commit();
 }

@@ -1,7 +1,8 @@
 // Writers of periodic tetrahedral meshes (mesh/tet_mesh.h) for finite-element codes, each with
 // the periodic node pairs in the form that code reads: gmsh MSH 4.1 ASCII with $Periodic,
-// Abaqus .inp with matched node sets for *EQUATION, VTU and XDMF (inline XML data, no HDF5)
-// with a periodic_master node array. Each file is written to a temporary name and renamed.
+// Abaqus .inp with matched node sets for *EQUATION, VTU and XDMF (its heavy data in FILE.h5
+// when built with HDF5, else inline XML) with a periodic_master node array. Each file is
+// written to a temporary name and renamed.
 // How to use the pairs: docs/volume_mesh.md.
 #pragma once
 
@@ -31,6 +32,11 @@ const char* tet_mesh_format_name(TetMeshFormat f);
 void write_tet_mesh_with_report(const TetMesh& m, TetMeshFormat f,
                                 const std::filesystem::path& path, const std::string& title,
                                 nlohmann::json report);
+
+// Whether .xdmf files get their data in an HDF5 file (libhdf5-dev at configure time), and
+// that file's name: FILE.xdmf's stem with .h5.
+bool xdmf_hdf5_available();
+std::filesystem::path xdmf_heavy_data_path(const std::filesystem::path& xdmf);
 
 // The pairs grouped by translation in whole block periods, as the files list them.
 struct PairClass {

@@ -81,8 +81,9 @@ PeriodicTets mesh_periodic_solid(const Field& g, double level, const PeriodicMes
                     params::facet_distance = c.facet_distance,
                     params::cell_radius_edge_ratio = c.radius_edge,
                     params::cell_size = c.cell_radius);
-  // The perturber draws from CGAL's global generator: reseeded, the same field and criteria
-  // give the same mesh on every call.
+  // The perturber draws from CGAL's global generator: reseeded. Runs still differ by a few
+  // tets: CGAL stops the perturber and the exuder after as long as the refinement took (a
+  // wall-clock limit). Without it (time_limit = 0) runs repeat, but take 4x as long.
   CGAL::get_default_random() = CGAL::Random(0);
   C3t3 c3t3 = CGAL::make_periodic_3_mesh_3<C3t3>(domain, criteria);
   const Tr& tr = c3t3.triangulation();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 #include <numbers>
 #include <stdexcept>
@@ -42,6 +43,53 @@ FaceKey sorted_face(std::int64_t a, std::int64_t b, std::int64_t c) {
   FaceKey f{{a, b, c}};
   std::sort(f.v.begin(), f.v.end());
   return f;
+}
+
+// The box-face measures of TetMeshStats over the boundary faces that `periodic` accepts.
+template <class Periodic>
+void box_faces(const TetMesh& m, const std::vector<FaceKey>& boundary, Periodic periodic,
+               TetMeshStats& s) {
+  // Exact comparisons: nodes on a plane are written as 0 or whole periods, not computed.
+  auto on = [&](std::int64_t v, int a, int side) {
+    return m.nodes[v][a] == (side ? m.period[a] : 0.0);
+  };
+  for (std::size_t v = 0; v < m.nodes.size(); ++v)
+    for (int a = 0; a < 3; ++a) {
+      s.plane_nodes[2 * a] += on(std::int64_t(v), a, 0);
+      s.plane_nodes[2 * a + 1] += on(std::int64_t(v), a, 1);
+      s.nodes_outside_box += m.nodes[v][a] < 0.0 || m.nodes[v][a] > m.period[a];
+    }
+  // Per plane, each face as its nodes' two other coordinates, sorted: opposite planes must hold
+  // the same list.
+  using Flat = std::array<std::array<double, 2>, 3>;
+  std::array<std::vector<Flat>, 6> on_plane;
+  for (const FaceKey& f : boundary) {
+    if (!periodic(f)) continue;
+    int plane = -1;
+    for (int a = 0; a < 3 && plane < 0; ++a)
+      for (int side = 0; side < 2 && plane < 0; ++side)
+        if (on(f.v[0], a, side) && on(f.v[1], a, side) && on(f.v[2], a, side))
+          plane = 2 * a + side;
+    if (plane < 0) {
+      ++s.periodic_faces_off_plane;
+      continue;
+    }
+    const int a = plane / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    Flat x;
+    for (int k = 0; k < 3; ++k) x[k] = {m.nodes[f.v[k]][b], m.nodes[f.v[k]][c]};
+    std::sort(x.begin(), x.end());
+    on_plane[std::size_t(plane)].push_back(x);
+  }
+  for (int a = 0; a < 3; ++a) {
+    auto& lo = on_plane[std::size_t(2 * a)];
+    auto& hi = on_plane[std::size_t(2 * a + 1)];
+    std::sort(lo.begin(), lo.end());
+    std::sort(hi.begin(), hi.end());
+    std::vector<Flat> diff;
+    std::set_symmetric_difference(lo.begin(), lo.end(), hi.begin(), hi.end(),
+                                  std::back_inserter(diff));
+    s.unmirrored_faces += diff.size();
+  }
 }
 
 }  // namespace
@@ -243,11 +291,12 @@ TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max
   s.edges = edges.size();
   s.min_edge = INFINITY;
   double sum = 0.0;
+  std::vector<std::pair<std::int64_t, std::int64_t>> short_edges;
   for (const auto& [i, j] : edges) {
     const double l = norm(sub(m.nodes[j], m.nodes[i]));
     s.min_edge = std::min(s.min_edge, l), s.max_edge = std::max(s.max_edge, l);
     sum += l;
-    if (size_min > 0 && l < size_min) ++s.edges_below_min;
+    if (size_min > 0 && l < size_min) short_edges.push_back({i, j});
     if (size_max > 0 && l > size_max) ++s.edges_above_max;
   }
   s.mean_edge = sum / double(edges.size());
@@ -296,11 +345,28 @@ TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max
       boundary.push_back(f);
       ++periodic[sorted_face(rep[f.v[0]], rep[f.v[1]], rep[f.v[2]])];
     }
+  // Where the short edges are: 1 on the solid's surface, 2 on the cut, 3 both.
+  std::vector<char> place(m.nodes.size(), 0);
   for (const auto& f : boundary) {
-    if (periodic[sorted_face(rep[f.v[0]], rep[f.v[1]], rep[f.v[2]])] < 2) continue;
+    if (periodic[sorted_face(rep[f.v[0]], rep[f.v[1]], rep[f.v[2]])] < 2) {
+      for (auto v : f.v) place[v] |= 1;
+      continue;
+    }
     ++s.periodic_faces;
-    for (auto v : f.v) s.unpaired_nodes += !paired[v];
+    for (auto v : f.v) s.unpaired_nodes += !paired[v], place[v] |= 2;
   }
+  s.edges_below_min = short_edges.size();
+  for (const auto& [i, j] : short_edges) {
+    const int both = place[i] & place[j];
+    if (both & 2)
+      ++s.edges_below_min_cut;
+    else if (both & 1)
+      ++s.edges_below_min_surface;
+  }
+  box_faces(m, boundary, [&](const FaceKey& f) {
+    const auto it = periodic.find(sorted_face(rep[f.v[0]], rep[f.v[1]], rep[f.v[2]]));
+    return it != periodic.end() && it->second >= 2;
+  }, s);
   const std::size_t rest = boundary.size() - s.periodic_faces;
   s.surface_faces = std::min(rest, m.surface_faces);
   s.unmatched_faces = rest - s.surface_faces;
@@ -333,6 +399,8 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
         {"max", s.max_edge},
         {"mean", s.mean_edge},
         {"below_size_min", s.edges_below_min},
+        {"below_size_min_on_cut", s.edges_below_min_cut},
+        {"below_size_min_on_surface", s.edges_below_min_surface},
         {"above_size_max", s.edges_above_max},
         {"units", units}}},
       {"checks",
@@ -344,7 +412,19 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
         {"periodic_faces", s.periodic_faces},
         {"unmatched_boundary_faces", s.unmatched_faces},
         {"unpaired_nodes", s.unpaired_nodes},
-        {"pair_mismatch", s.pair_mismatch}}}};
+        {"pair_mismatch", s.pair_mismatch},
+        {"periodic_faces_off_plane", s.periodic_faces_off_plane},
+        {"nodes_outside_box", s.nodes_outside_box},
+        {"unmirrored_faces", s.unmirrored_faces}}},
+      {"box_face_nodes",
+       {{"x_min", s.plane_nodes[0]},
+        {"x_max", s.plane_nodes[1]},
+        {"y_min", s.plane_nodes[2]},
+        {"y_max", s.plane_nodes[3]},
+        {"z_min", s.plane_nodes[4]},
+        {"z_max", s.plane_nodes[5]},
+        {"note", "nodes on each plane of the box [0, period]; edge and corner nodes count on "
+                 "each of their planes"}}}};
 }
 
 }  // namespace cmcsurf

@@ -31,9 +31,9 @@ struct PeriodicPair {
 
 // A tetrahedral mesh of tiles[0] x tiles[1] x tiles[2] cells, output units. Its outer boundary
 // is the solid's surface plus the periodic cut: faces that come in pairs one block period apart,
-// whose nodes are listed in `pairs`. The block is a fundamental domain of the periodic solid,
-// not the box cut flat: a tetrahedron lies where its centroid falls in the box, so the cut
-// faces stay within about one element of the box faces.
+// whose nodes are listed in `pairs`. A tetrahedron lies where its centroid falls in the box: a
+// torus mesh split at the cell faces (mesh/periodic_cut.h) gives the box cut flat, any other a
+// fundamental domain whose cut faces stay within about one element of the box faces.
 struct TetMesh {
   std::vector<Vec3> nodes;
   std::vector<std::array<std::int64_t, 4>> tets;  // positively oriented
@@ -67,6 +67,15 @@ struct TetMeshStats {
   std::array<std::size_t, 18> dihedral_histogram{};      // each tet's smallest angle, 10 deg
   double min_edge = 0.0, max_edge = 0.0, mean_edge = 0.0;
   std::size_t edges_below_min = 0, edges_above_max = 0;
+  // Of those below size_min: with both ends on the periodic cut, on the solid's surface.
+  std::size_t edges_below_min_cut = 0, edges_below_min_surface = 0;
+  // The cut against the box [0, period]: nodes on each plane (x = 0, x = period_x, y = 0, ...),
+  // periodic faces not on one plane, nodes outside the box, and periodic faces on a plane whose
+  // image on the opposite plane (the same nodes one period away) is not a face there.
+  std::array<std::size_t, 6> plane_nodes{};
+  std::size_t periodic_faces_off_plane = 0;
+  std::size_t nodes_outside_box = 0;
+  std::size_t unmirrored_faces = 0;
 };
 TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min = 0.0, double size_max = 0.0);
 nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units);

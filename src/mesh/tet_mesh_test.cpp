@@ -4,43 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "grid/kuhn.h"
+#include "mesh/kuhn_torus_testing.h"
 
 namespace cmcsurf {
 namespace {
-
-// The whole unit torus as m^3 cubes of 6 Kuhn tets, the lattice shifted by `shift` cubes so
-// that no vertex lies on a face of the box: every tet that crosses a face carries offsets.
-PeriodicTets kuhn_torus(int m, double shift = 0.37) {
-  PeriodicTets t;
-  auto id = [m](int i, int j, int k) { return std::int32_t((k * m + j) * m + i); };
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i)
-        t.vertices.push_back({(i + shift) / m, (j + shift) / m, (k + shift) / m});
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i)
-        for (const auto& tet : kKuhnTets) {
-          std::array<std::int32_t, 4> v;
-          std::array<std::array<std::int8_t, 3>, 4> o;
-          for (int c = 0; c < 4; ++c) {
-            const int* d = kCubeCorner[tet[c]];
-            const int a = i + d[0], b = j + d[1], e = k + d[2];
-            v[c] = id(a % m, b % m, e % m);
-            o[c] = {std::int8_t(a / m), std::int8_t(b / m), std::int8_t(e / m)};
-          }
-          // Half of the Kuhn tets are listed clockwise: turn them.
-          const int* a = kCubeCorner[tet[0]];
-          std::array<Vec3, 4> x;
-          for (int c = 0; c < 4; ++c)
-            for (int q = 0; q < 3; ++q) x[c][q] = kCubeCorner[tet[c]][q] - a[q];
-          if (tet_volume(x[0], x[1], x[2], x[3]) < 0) std::swap(v[2], v[3]), std::swap(o[2], o[3]);
-          t.tets.push_back(v);
-          t.offsets.push_back(o);
-        }
-  return t;
-}
 
 TEST(TetMesh, UnfoldedKuhnTorusFillsTheBlockWithEveryCutNodePaired) {
   const int m = 3;

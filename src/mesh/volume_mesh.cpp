@@ -48,6 +48,9 @@ VolumeMeshParams volume_mesh_params(const VolumeMeshOptions& o, int n) {
                                     o.tile, kMaxVolumeMeshTiles));
   p.cell_size = s.cell_size;
   p.units = s.units;
+  if (o.cut != "flat" && o.cut != "fundamental")
+    throw OptionError(fmt::format("--cut: got '{}'; accepted: flat|fundamental", o.cut));
+  p.flat_faces = o.cut == "flat";
   // Sizes: output units in, unit cells inside. Below a tenth of a grid spacing the mesh
   // resolves nothing the field has; above a quarter cell it no longer holds the solid's arms.
   const double L = o.cell_size, lo = 0.1 * L / n, hi = 0.25 * L;
@@ -97,6 +100,65 @@ SolidLevelSet solid_level_set(const Field& phi, SolidKind solid, double thicknes
   return s;
 }
 
+double solid_fraction_above(const Field& g, double level) {
+  Field fraction(g.n(), 0);
+  dual_cell_fractions(g, level, fraction);
+  double sum = 0.0;
+  for_each_cell(fraction, [&](int i, int j, int k) { sum += fraction(i, j, k); });
+  return sum / fraction.global_cells();
+}
+
+SheetForPorosity sheet_for_porosity(const Field& phi, double porosity) {
+  if (!(porosity > 0.0 && porosity < 1.0))
+    throw std::invalid_argument(fmt::format("--porosity: got {}; accepted: 0 < P < 1", porosity));
+  const double target = 1.0 - porosity, h = phi.h();
+  // A thin wall of thickness T around a surface of area A per cell holds T A: the band starts
+  // at 1.5x the half thickness that suggests, and grows when the wall turns out thicker.
+  const double area = analyze_mesh(periodic_surface_mesh(phi)).area;
+  SheetForPorosity s;
+  s.band = std::min(0.5, 0.75 * target / std::max(area, 1e-12) + 3.0 * h);
+  for (;;) {
+    const Field d = signed_distance(phi, s.band);
+    ++s.distance_fields;
+    s.level_set.g = Field::like(d, 1);
+    Field& g = s.level_set.g;
+    for_each_cell(d, [&](int i, int j, int k) { g(i, j, k) = -std::abs(d(i, j, k)); });
+    g.exchange_halo();
+    auto f = [&](double t) {
+      ++s.evaluations;
+      return solid_fraction_above(g, -0.5 * t) - target;
+    };
+    // Illinois (regula falsi that halves the stale end's value): the solid fraction is a
+    // smooth increasing function of T, so a handful of evaluations reach the tolerance that
+    // bisection needs ~25 for. Beyond 2 x band every value is clamped: the bracket ends there.
+    double lo = 0.0, hi = 2.0 * s.band + 2.0 * h;
+    double flo = -target, fhi = f(hi);
+    double t = hi, ft = fhi;
+    int stale = 0;
+    for (int it = 0; it < 100 && std::abs(ft) > kSheetPorosityTol && hi - lo > 1e-14; ++it) {
+      t = (lo * fhi - hi * flo) / (fhi - flo);
+      if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+      ft = f(t);
+      if (ft < 0) {
+        lo = t, flo = ft;
+        if (stale == -1) fhi *= 0.5;
+        stale = -1;
+      } else {
+        hi = t, fhi = ft;
+        if (stale == 1) flo *= 0.5;
+        stale = 1;
+      }
+    }
+    s.thickness = t;
+    s.solid_fraction = ft + target;
+    // Exact while every Kuhn tet the level crosses has its corners inside the band.
+    if (0.5 * t + 3.0 * h <= s.band || s.band >= 0.5) break;
+    s.band = std::min(0.5, 0.75 * t + 3.0 * h);
+  }
+  s.level_set.level = -0.5 * s.thickness;
+  return s;
+}
+
 VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   if (!periodic_mesher_available())
     throw std::runtime_error(
@@ -109,21 +171,23 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   // field, computed once: it is the slow part at 64^3).
   const bool sheet_of_thickness = p.solid == SolidKind::kSheet && std::isnan(p.porosity);
   out.thickness = p.thickness;
-  if (!sheet_of_thickness) {
-    SolidSpec spec;
-    spec.kind = p.solid;
-    spec.porosity = p.porosity;
-    const VoxelSolid voxels = cmc_voxel_solid(phi, spec);
-    out.solid_fraction = voxels.solid_fraction;
-    out.thickness = voxels.thickness;
-  }
-  const SolidLevelSet ls = solid_level_set(phi, p.solid, out.thickness);
-  if (sheet_of_thickness) {
-    Field fraction(phi.n(), 0);
-    dual_cell_fractions(ls.g, ls.level, fraction);
-    double sum = 0.0;
-    for_each_cell(fraction, [&](int i, int j, int k) { sum += fraction(i, j, k); });
-    out.solid_fraction = sum / fraction.global_cells();
+  SolidLevelSet ls;
+  nlohmann::json thickness_solve;
+  if (p.solid == SolidKind::kNetwork) {
+    out.solid_fraction = cmc_voxel_solid(phi, {}).solid_fraction;
+    ls = solid_level_set(phi, p.solid, 0.0);
+  } else if (sheet_of_thickness) {
+    ls = solid_level_set(phi, p.solid, out.thickness);
+    out.solid_fraction = solid_fraction_above(ls.g, ls.level);
+  } else {
+    SheetForPorosity s = sheet_for_porosity(phi, p.porosity);
+    ls = std::move(s.level_set);
+    out.thickness = s.thickness;
+    out.solid_fraction = s.solid_fraction;
+    thickness_solve = {{"band", s.band},
+                       {"distance_fields", s.distance_fields},
+                       {"evaluations", s.evaluations},
+                       {"porosity_error", 1.0 - s.solid_fraction - p.porosity}};
   }
   const double level_set_seconds = seconds_since(t0);
 
@@ -134,11 +198,16 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   c.facet_size = 0.5 * p.size_max;
   c.facet_distance = p.facet_distance;
   const auto t1 = WallClock::now();
-  const PeriodicTets torus = mesh_periodic_solid(ls.g, ls.level, c);
+  PeriodicTets torus = mesh_periodic_solid(ls.g, ls.level, c);
   const double mesh_seconds = seconds_since(t1);
+  const std::size_t torus_vertices = torus.vertices.size(), torus_tets = torus.tets.size();
   const auto t2 = WallClock::now();
+  CellFaceCut cut;
+  if (p.flat_faces) cut = cut_at_cell_faces(torus, p.cut_snap);
+  const double cut_seconds = seconds_since(t2);
+  const auto t4 = WallClock::now();
   out.mesh = unfold_periodic_tets(torus, p.tiles, p.cell_size);
-  const double unfold_seconds = seconds_since(t2);
+  const double unfold_seconds = seconds_since(t4);
   const auto t3 = WallClock::now();
   const double L = p.cell_size;
   const TetMeshStats s = analyze_tet_mesh(out.mesh, p.size_min * L, p.size_max * L);
@@ -158,9 +227,25 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   r["porosity_field"] = 1.0 - out.solid_fraction;
   if (p.solid == SolidKind::kSheet)
     r["thickness"] = out.thickness * L;
-  r["domain"] =
-      "a fundamental domain of the periodic solid: each tet where its centroid falls in the "
-      "box; the cut faces come in pairs one period apart (pairing)";
+  if (!thickness_solve.is_null()) r["thickness_solve"] = thickness_solve;
+  r["domain"] = p.flat_faces
+                    ? "the box [0, period] cut flat: the periodic mesh split at the cell faces; "
+                      "opposite faces carry the same triangulation, node for node (pairing)"
+                    : "a fundamental domain of the periodic solid: each tet where its centroid "
+                      "falls in the box; the cut faces come in pairs one period apart (pairing)";
+  if (p.flat_faces)
+    r["cut"] = {{"faces", "flat"},
+                {"snap_share_of_shortest_edge", p.cut_snap},
+                {"snapped_vertices", cut.snapped},
+                {"pushed_vertices", cut.pushed},
+                {"snaps_refused", cut.snaps_refused},
+                {"max_snap", cut.max_snap * L},
+                {"split_tets", cut.split_tets},
+                {"added_vertices", cut.cut_vertices},
+                {"degenerate_pieces", cut.degenerate},
+                {"units", p.units}};
+  else
+    r["cut"] = {{"faces", "fundamental domain"}};
   r["criteria"] = {{"size_max", p.size_max * L},
                    {"size_min", p.size_min * L},
                    {"facet_distance", p.facet_distance * L},
@@ -170,7 +255,8 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                    {"cell_radius_edge_ratio", c.radius_edge},
                    {"units", p.units},
                    {"size_min_note", "CGAL 5.5 has no lower size bound: counted, not enforced"}};
-  r["torus"] = {{"vertices", torus.vertices.size()}, {"tets", torus.tets.size()}};
+  r["torus"] = {{"vertices", torus_vertices}, {"tets", torus_tets},
+                {"vertices_split", torus.vertices.size()}, {"tets_split", torus.tets.size()}};
   // The pairs by translation, in block periods.
   std::map<std::array<long, 3>, std::size_t> classes;
   for (const auto& pr : out.mesh.pairs) {
@@ -192,6 +278,7 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   r["mesher"] = periodic_mesher_name();
   r["seconds"] = {{"level_set", level_set_seconds},
                   {"mesh", mesh_seconds},
+                  {"cut", cut_seconds},
                   {"unfold", unfold_seconds},
                   {"analyze", analyze_seconds}};
   r["mesh_seconds"] = mesh_seconds;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "grid/field.h"
+#include "mesh/periodic_cut.h"
 #include "mesh/periodic_mesher.h"
 #include "mesh/scaffold.h"
 #include "mesh/tet_mesh.h"
@@ -29,6 +30,9 @@ struct VolumeMeshOptions {
   double size = NAN;              // the longest edge; default kDefaultVolumeMeshSize cells
   double size_min = NAN, size_max = NAN;
   double facet_distance = NAN;    // default: kDefaultFacetDistanceShare of the longest edge
+  // flat: the box cut by its planes; fundamental: each tet whole where its centroid falls
+  // (jagged cut faces, but CGAL's tets untouched: better angles, fewer tets).
+  std::string cut = "flat";
 };
 
 // The default longest edge, unit cells, and facet distance, a fraction of the longest edge: a
@@ -48,6 +52,11 @@ struct VolumeMeshParams {
   double size_min = 0.0;     // unit cells; 0: none (reported, not enforced: see the .cpp)
   double size_max = kDefaultVolumeMeshSize;  // unit cells
   double facet_distance = kDefaultVolumeMeshSize * kDefaultFacetDistanceShare;  // unit cells
+  // The cut faces: flat (the torus mesh split at the cell faces, vertices within cut_snap of
+  // their shortest edge snapped onto them first) or, when false, the unsplit fundamental
+  // domain.
+  bool flat_faces = true;
+  double cut_snap = kDefaultCellFaceSnap;
 };
 
 // Checks every option against the field's grid n; throws OptionError (pipeline/run_options.h)
@@ -72,5 +81,23 @@ struct SolidLevelSet {
   double level = 0.5;
 };
 SolidLevelSet solid_level_set(const Field& phi, SolidKind solid, double thickness);
+
+// The mean voxel fraction of {g_h > level} (measure/sharp_volume.h).
+double solid_fraction_above(const Field& g, double level);
+
+// The sheet whose voxel solid leaves `porosity`, to kSheetPorosityTol: the thickness that
+// cmc_voxel_solid's bisection finds, from a distance field whose band only just holds the wall
+// (estimated from the surface's area, widened if the wall is thicker) and a regula falsi
+// solve; the wide band and ~25 bisection steps there took most of a sheet's time.
+inline constexpr double kSheetPorosityTol = 1e-7;
+struct SheetForPorosity {
+  SolidLevelSet level_set;     // -|d| at -T/2
+  double thickness = 0.0;      // T, unit cells
+  double solid_fraction = 0.0;
+  double band = 0.0;           // of the last distance field, unit cells
+  int distance_fields = 0;     // computed (1 unless the first band was too narrow)
+  int evaluations = 0;         // of the solid fraction
+};
+SheetForPorosity sheet_for_porosity(const Field& phi, double porosity);
 
 }  // namespace cmcsurf

@@ -98,7 +98,7 @@ TEST(VolumeMesh, TilesCopyTheCellAndPairOnlyTheBlocksFaces) {
   // its sets are ordered by address), so compared with its own torus mesh.
   const VolumeMesh two = build_volume_mesh(c.phi, p);
   const auto& r = two.report;
-  EXPECT_EQ(r["tets"].get<long>(), 2 * r["torus"]["tets"].get<long>());
+  EXPECT_EQ(r["tets"].get<long>(), 2 * r["torus"]["tets_split"].get<long>());
   EXPECT_NEAR(r["volume_field"].get<double>(), 2 * 27 * c.mesh.solid_fraction, 1e-12);
   EXPECT_LT(std::abs(r["volume_relative_error"].get<double>()), 0.005);
   EXPECT_EQ(r["checks"]["unmatched_boundary_faces"], 0);
@@ -126,6 +126,23 @@ TEST(VolumeMesh, SheetHasTheVoxelSolidsVolume) {
   EXPECT_EQ(m.report["checks"]["unmatched_boundary_faces"], 0);
   EXPECT_EQ(m.report["checks"]["inverted_tets"], 0);
   EXPECT_EQ(m.report["checks"]["components_periodic"], 1);
+}
+
+TEST(VolumeMesh, SheetThicknessForPorosityMatchesTheVoxelBisection) {
+  const Field phi = gyroid(24, 0.5);
+  const double porosity = 0.7;
+  SolidSpec spec;
+  spec.kind = SolidKind::kSheet;
+  spec.porosity = porosity;
+  const VoxelSolid ref = cmc_voxel_solid(phi, spec);  // band 0.5, bisection
+  const SheetForPorosity s = sheet_for_porosity(phi, porosity);
+  EXPECT_NEAR(1.0 - s.solid_fraction, porosity, kSheetPorosityTol);
+  // Both solve the solid fraction to 1e-7, whose slope in T is the surface's area (3.1 per
+  // cell for the gyroid): the thicknesses agree to 2e-7 / 3.1.
+  EXPECT_NEAR(s.thickness, ref.thickness, 7e-8);
+  EXPECT_EQ(s.distance_fields, 1);
+  EXPECT_LE(s.evaluations, 12);  // bisection: ~25
+  EXPECT_NEAR(solid_fraction_above(s.level_set.g, s.level_set.level), s.solid_fraction, 1e-15);
 }
 
 #ifdef CMCSURF_TEST_HAVE_EIGEN

@@ -32,6 +32,7 @@ expect_usage --size           $(vm) --size 0.1 --size-max 0.1
 expect_usage --size-min       $(vm) --size-min 0.1 --size-max 0.05
 expect_usage --facet-distance $(vm) --facet-distance 0
 expect_usage --format         $(vm) --format stl
+expect_usage --cut            $(vm) --cut round
 expect_usage --threads        $(vm) --threads -1
 
 # The four formats of one mesh (2 mm cells, two tiles along x).
@@ -53,6 +54,13 @@ if abs(r["volume_relative_error"]) > 0.005: bad.append("volume_relative_error")
 e = r["edge_length"]
 if e["max"] > 1.25 * 0.3 or e["above_size_max"] > 1e-3 * r["edges"]: bad.append("edge_length")
 if r["pairing"]["pairs"] <= 0 or r["format"] != "msh": bad.append("pairing/format")
+# Flat faces: the cut lies on the box's planes, opposite planes carry the same faces.
+for k in ("periodic_faces_off_plane", "nodes_outside_box", "unmirrored_faces"):
+    if c[k] != 0: bad.append(k)
+f = r["box_face_nodes"]
+for a in "xyz":
+    if f[a + "_min"] != f[a + "_max"] or f[a + "_min"] <= 0: bad.append("box_face_nodes." + a)
+if r["cut"]["faces"] != "flat" or r["cut"]["degenerate_pieces"] != 0: bad.append("cut")
 if bad: print("FAIL: g.msh.json:", bad, c); sys.exit(1)
 PY
 
@@ -82,6 +90,11 @@ except ImportError:
     formats = ("msh", "inp", "vtu")
 for ext in formats:
     r = json.load(open(f"{work}/g.{ext}.json"))  # each run meshes anew: its own report
+    if ext == "xdmf" and r["xdmf_data"] == "HDF5":
+        h5 = f"{work}/" + r["heavy_data_file"]
+        with h5py.File(h5, "r") as f:  # the datasets the .xdmf file names
+            if f["topology"].shape != (r["tets"], 4) or f["geometry"].shape != (r["nodes"], 3):
+                print("FAIL:", h5, "datasets", list(f)); ok = False
     m = meshio.read(f"{work}/g.{ext}")
     tets = sum(len(c.data) for c in m.cells if c.type == "tetra")
     if len(m.points) != r["nodes"] or tets != r["tets"]:
@@ -94,6 +107,9 @@ for ext in formats:
         k = np.round(d / period)
         if len(s) != r["pairing"]["pairs"] or np.abs(d - k * period).max() > 1e-12 * period.max():
             print(f"FAIL: g.{ext} periodic_master pairs"); ok = False
+    # Flat faces: every node inside the box [0, period], and the slaves on its max planes.
+    if m.points.min() < 0 or (m.points - period).max() > 0:
+        print(f"FAIL: g.{ext} has nodes outside the box"); ok = False
 # MSH: every $Periodic link's pairs coincide modulo its translation.
 r = json.load(open(f"{work}/g.msh.json"))
 m = meshio.read(f"{work}/g.msh")

@@ -1,0 +1,287 @@
+#include "mesh/periodic_cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace cmcsurf {
+
+namespace {
+
+// A tet corner: a torus vertex plus whole periods.
+struct Corner {
+  std::int32_t v = 0;
+  std::array<int, 3> o{0, 0, 0};
+};
+
+Vec3 position(const PeriodicTets& t, const Corner& c) {
+  const Vec3& p = t.vertices[std::size_t(c.v)];
+  return {p[0] + c.o[0], p[1] + c.o[1], p[2] + c.o[2]};
+}
+
+// An edge of the torus: its vertex of smaller index u, the other w, and w's periods relative
+// to u's; the same key in every tet that holds the edge.
+struct EdgeKey {
+  std::int32_t u = 0, w = 0;
+  std::array<int, 3> rel{0, 0, 0};
+  bool operator==(const EdgeKey& o) const { return u == o.u && w == o.w && rel == o.rel; }
+};
+struct EdgeHash {
+  std::size_t operator()(const EdgeKey& e) const {
+    std::size_t h = std::size_t(e.u) * 1000003u ^ std::size_t(e.w);
+    for (int r : e.rel) h = h * 31u + std::size_t(r + 16);
+    return h;
+  }
+};
+// The vertex added on an edge, and its periods relative to the edge's u.
+struct CutVertex {
+  std::int32_t id = 0;
+  std::array<int, 3> shift{0, 0, 0};
+};
+
+class Splitter {
+ public:
+  Splitter(PeriodicTets& t, int axis, CellFaceCut& stats) : t_(t), a_(axis), stats_(stats) {}
+
+  // Splits every tet that the plane x_axis = k (k whole) crosses.
+  void run() {
+    std::vector<std::array<std::int32_t, 4>> tets;
+    std::vector<std::array<std::array<std::int8_t, 3>, 4>> offsets;
+    out_tets_ = &tets;
+    out_offsets_ = &offsets;
+    tets.reserve(t_.tets.size() + t_.tets.size() / 4);
+    offsets.reserve(tets.capacity());
+    for (std::size_t i = 0; i < t_.tets.size(); ++i) split(i);
+    t_.tets = std::move(tets);
+    t_.offsets = std::move(offsets);
+  }
+
+ private:
+  void split(std::size_t i) {
+    std::array<Corner, 4> c;
+    for (int q = 0; q < 4; ++q) {
+      c[q].v = t_.tets[i][q];
+      for (int a = 0; a < 3; ++a) c[q].o[a] = t_.offsets[i][q][a];
+    }
+    int lo = c[0].o[a_], hi = lo;
+    for (const Corner& q : c) lo = std::min(lo, q.o[a_]), hi = std::max(hi, q.o[a_]);
+    if (hi - lo > 1)
+      throw std::runtime_error("cut_at_cell_faces: a tet spans more than a cell");
+    // A corner at periods o lies in [o, o + 1): below the plane k = hi when o < k, on it when
+    // o == k and its coordinate is 0, above otherwise. Exact: no rounding decides a side.
+    const int k = hi;
+    std::array<int, 4> below{}, on{}, above{};
+    int nb = 0, nz = 0, na = 0;
+    for (int q = 0; q < 4; ++q) {
+      if (c[q].o[a_] < k)
+        below[nb++] = q;
+      else if (t_.vertices[std::size_t(c[q].v)][a_] == 0.0)
+        on[nz++] = q;
+      else
+        above[na++] = q;
+    }
+    if (nb == 0 || na == 0) {
+      emit(c[0], c[1], c[2], c[3]);
+      return;
+    }
+    ++stats_.split_tets;
+    auto cut = [&](int b, int a) { return cut_vertex(c[b], c[a], k); };
+    if (nb == 1 && na == 3) {
+      const Corner x0 = cut(below[0], above[0]), x1 = cut(below[0], above[1]),
+                   x2 = cut(below[0], above[2]);
+      emit(c[below[0]], x0, x1, x2);
+      prism({x0, x1, x2}, {c[above[0]], c[above[1]], c[above[2]]});
+    } else if (nb == 3 && na == 1) {
+      const Corner x0 = cut(below[0], above[0]), x1 = cut(below[1], above[0]),
+                   x2 = cut(below[2], above[0]);
+      emit(c[above[0]], x0, x1, x2);
+      prism({x0, x1, x2}, {c[below[0]], c[below[1]], c[below[2]]});
+    } else if (nb == 2 && na == 2) {
+      const Corner x00 = cut(below[0], above[0]), x01 = cut(below[0], above[1]),
+                   x10 = cut(below[1], above[0]), x11 = cut(below[1], above[1]);
+      prism({c[below[0]], x00, x01}, {c[below[1]], x10, x11});
+      prism({c[above[0]], x00, x10}, {c[above[1]], x01, x11});
+    } else if (nb == 1 && nz == 1 && na == 2) {
+      const Corner x0 = cut(below[0], above[0]), x1 = cut(below[0], above[1]);
+      emit(c[below[0]], c[on[0]], x0, x1);
+      pyramid(c[on[0]], {c[above[0]], c[above[1]], x1, x0});
+    } else if (nb == 2 && nz == 1 && na == 1) {
+      const Corner x0 = cut(below[0], above[0]), x1 = cut(below[1], above[0]);
+      emit(c[above[0]], c[on[0]], x0, x1);
+      pyramid(c[on[0]], {c[below[0]], c[below[1]], x1, x0});
+    } else {  // one below, two on the plane, one above
+      const Corner x = cut(below[0], above[0]);
+      emit(c[below[0]], c[on[0]], c[on[1]], x);
+      emit(c[above[0]], c[on[0]], c[on[1]], x);
+    }
+  }
+
+  // The vertex where the edge (b, a) crosses the plane k, computed once per torus edge in the
+  // frame of its smaller vertex, so every tet holding the edge gets the same point.
+  Corner cut_vertex(const Corner& b, const Corner& a, int k) {
+    const Corner& u = b.v < a.v ? b : a;
+    const Corner& w = b.v < a.v ? a : b;
+    EdgeKey key{u.v, w.v, {w.o[0] - u.o[0], w.o[1] - u.o[1], w.o[2] - u.o[2]}};
+    auto [it, fresh] = cuts_.try_emplace(key);
+    if (fresh) {
+      const Vec3 pu = t_.vertices[std::size_t(u.v)];
+      Vec3 pw = t_.vertices[std::size_t(w.v)];
+      for (int q = 0; q < 3; ++q) pw[q] += key.rel[q];
+      const int plane = k - u.o[a_];
+      const double s = (plane - pu[a_]) / (pw[a_] - pu[a_]);
+      Vec3 p;
+      for (int q = 0; q < 3; ++q) {
+        if (q == a_) {
+          p[q] = 0.0, it->second.shift[q] = plane;
+          continue;
+        }
+        const double y = pu[q] + s * (pw[q] - pu[q]);
+        int f = int(std::floor(y));
+        double r = y - f;
+        if (r >= 1.0) r -= 1.0, ++f;
+        p[q] = r, it->second.shift[q] = f;
+      }
+      it->second.id = std::int32_t(t_.vertices.size());
+      t_.vertices.push_back(p);
+      ++stats_.cut_vertices;
+    }
+    Corner x;
+    x.v = it->second.id;
+    for (int q = 0; q < 3; ++q) x.o[q] = u.o[q] + it->second.shift[q];
+    return x;
+  }
+
+  void emit(Corner p, Corner q, Corner r, Corner s) {
+    const Vec3 a = position(t_, p), b = position(t_, q), c = position(t_, r),
+               d = position(t_, s);
+    double v = tet_volume(a, b, c, d);
+    if (v < 0) std::swap(r, s), v = -v;
+    double lmax = 0.0;
+    for (const auto& [x, y] : {std::pair(a, b), {a, c}, {a, d}, {b, c}, {b, d}, {c, d}})
+      lmax = std::max(lmax, std::sqrt(dot(sub(y, x), sub(y, x))));
+    if (v <= 1e-12 * lmax * lmax * lmax) ++stats_.degenerate;
+    std::array<std::int32_t, 4> tet{p.v, q.v, r.v, s.v};
+    std::array<std::array<std::int8_t, 3>, 4> off;
+    const std::array<const Corner*, 4> cs{&p, &q, &r, &s};
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 3; ++j) off[i][j] = std::int8_t(cs[i]->o[j]);
+    out_tets_->push_back(tet);
+    out_offsets_->push_back(off);
+  }
+
+  // Apex over the quadrilateral q0 q1 q2 q3 (in cyclic order), cut along the diagonal from its
+  // vertex of smallest index.
+  void pyramid(const Corner& apex, const std::array<Corner, 4>& q) {
+    int m = 0;
+    for (int i = 1; i < 4; ++i)
+      if (q[i].v < q[m].v) m = i;
+    emit(apex, q[m], q[(m + 1) % 4], q[(m + 2) % 4]);
+    emit(apex, q[m], q[(m + 2) % 4], q[(m + 3) % 4]);
+  }
+
+  // The prism with triangles A and B and lateral edges A_i B_i: each lateral quadrilateral is
+  // cut from its smallest vertex; with the smallest of all six at A_0, that gives the tet
+  // A_0 B_0 B_1 B_2 and the pyramid A_0 over A_1 A_2 B_2 B_1.
+  void prism(std::array<Corner, 3> A, std::array<Corner, 3> B) {
+    int m = 0;
+    bool in_b = false;
+    std::int32_t smallest = A[0].v;
+    for (int i = 0; i < 3; ++i) {
+      if (A[i].v < smallest) smallest = A[i].v, m = i, in_b = false;
+      if (B[i].v < smallest) smallest = B[i].v, m = i, in_b = true;
+    }
+    if (in_b) std::swap(A, B);
+    std::rotate(A.begin(), A.begin() + m, A.end());
+    std::rotate(B.begin(), B.begin() + m, B.end());
+    emit(A[0], B[0], B[1], B[2]);
+    pyramid(A[0], {A[1], A[2], B[2], B[1]});
+  }
+
+  PeriodicTets& t_;
+  int a_;
+  CellFaceCut& stats_;
+  std::unordered_map<EdgeKey, CutVertex, EdgeHash> cuts_;
+  std::vector<std::array<std::int32_t, 4>>* out_tets_ = nullptr;
+  std::vector<std::array<std::array<std::int8_t, 3>, 4>>* out_offsets_ = nullptr;
+};
+
+// Moves vertices that lie within `snap` of their shortest edge of a face x_axis = 0 (mod 1)
+// onto it, or away from it to that distance, unless both would leave an incident tet with
+// under a tenth of its volume.
+void snap_to_cell_faces(PeriodicTets& t, int axis, double snap, CellFaceCut& stats) {
+  const std::size_t nv = t.vertices.size();
+  std::vector<double> shortest(nv, INFINITY);
+  std::vector<std::vector<std::pair<std::size_t, int>>> incident(nv);
+  for (std::size_t i = 0; i < t.tets.size(); ++i)
+    for (int q = 0; q < 4; ++q) {
+      incident[std::size_t(t.tets[i][q])].push_back({i, q});
+      for (int r = q + 1; r < 4; ++r) {
+        Vec3 d;
+        for (int a = 0; a < 3; ++a)
+          d[a] = t.vertices[std::size_t(t.tets[i][r])][a] + t.offsets[i][r][a] -
+                 t.vertices[std::size_t(t.tets[i][q])][a] - t.offsets[i][q][a];
+        const double l = std::sqrt(dot(d, d));
+        for (int c : {q, r})
+          shortest[std::size_t(t.tets[i][c])] = std::min(shortest[std::size_t(t.tets[i][c])], l);
+      }
+    }
+  auto volume = [&](std::size_t i, std::size_t moved, const Vec3& p, const std::array<int, 3>& up) {
+    std::array<Vec3, 4> x;
+    for (int q = 0; q < 4; ++q) {
+      const std::size_t v = std::size_t(t.tets[i][q]);
+      for (int a = 0; a < 3; ++a)
+        x[q][a] = (v == moved ? p[a] + up[a] : t.vertices[v][a]) + t.offsets[i][q][a];
+    }
+    return tet_volume(x[0], x[1], x[2], x[3]);
+  };
+  const int a = axis;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double reach = snap * shortest[v];
+    const Vec3 p0 = t.vertices[v];
+    const double x = p0[a];
+    const bool near_0 = x > 0.0 && x < reach && x <= 1.0 - x;
+    const bool near_1 = !near_0 && 1.0 - x < reach && 1.0 - x < x;
+    if (!near_0 && !near_1) continue;
+    // Onto the face; where that would flatten a tet, away from it to reach instead: either way
+    // the split makes no piece thinner than about reach.
+    for (const bool onto : {true, false}) {
+      Vec3 p = p0;
+      std::array<int, 3> up{0, 0, 0};  // moved onto x = 1: one period up, at 0
+      const double gap = near_0 ? x : 1.0 - x;
+      const double moved = onto ? gap : reach - gap;
+      p[a] = onto ? 0.0 : near_0 ? reach : 1.0 - reach;
+      up[a] = onto && near_1 ? 1 : 0;
+      bool ok = true;
+      for (const auto& [i, q] : incident[v])
+        ok = ok && volume(i, v, p, up) >= 0.1 * volume(i, v, p0, {0, 0, 0});
+      if (!ok) {
+        if (!onto) ++stats.snaps_refused;
+        continue;
+      }
+      t.vertices[v] = p;
+      for (const auto& [i, q] : incident[v])
+        for (int b = 0; b < 3; ++b) t.offsets[i][q][b] = std::int8_t(t.offsets[i][q][b] + up[b]);
+      ++(onto ? stats.snapped : stats.pushed);
+      stats.max_snap = std::max(stats.max_snap, moved);
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+CellFaceCut cut_at_cell_faces(PeriodicTets& t, double snap) {
+  if (t.tets.size() != t.offsets.size())
+    throw std::invalid_argument("cut_at_cell_faces: one offset set per tet");
+  CellFaceCut stats;
+  // Axis by axis, so that the vertices one split adds near the next axis's faces are snapped
+  // too (else they leave pieces of almost no volume there).
+  for (int axis = 0; axis < 3; ++axis) {
+    if (snap > 0.0) snap_to_cell_faces(t, axis, snap, stats);
+    Splitter(t, axis, stats).run();
+  }
+  return stats;
+}
+
+}  // namespace cmcsurf
