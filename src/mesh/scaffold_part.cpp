@@ -19,6 +19,9 @@ namespace {
 constexpr int kMaxSolveIterations = 12;
 // Voxels per cell edge for the local thickness, at least: a 0.1-cell wall is 6 voxels.
 constexpr int kMorphometryGrid = 64;
+// Above this many lattice nodes (256^3) the part itself is not measured: about 30 bytes a node
+// and one distance transform per ball radius; its unit cell's measures stand.
+constexpr std::size_t kMaxPartMorphometryNodes = 16'777'216;
 // A network part misses its porosity only through the box trimming the lattice (a few 1e-4
 // for whole cells); past this its level is shifted to hit the target.
 constexpr double kNetworkPorosityTol = 1e-3;
@@ -285,6 +288,62 @@ nlohmann::json cell_morphometry(const Field& g, const std::function<double(doubl
   return morph;
 }
 
+// Wall thickness, pore size and throat of the part as built, on its lattice (not periodic):
+// the solid at `level` without its removed fragments, the pores within the box (or the shape).
+// Beyond the box a wall is cut (outside) and a pore goes on. Node spacings differ by the
+// rounding of the box to whole nodes (well under 1 %); their mean is the voxel.
+nlohmann::json part_morphometry(const PartLattice& lat, double level, const ScaffoldDesign& d) {
+  // Every stride-th node: the part at about kMorphometryGrid voxels per cell at most, the
+  // cell's own resolution, so that its cost stays that of a grid-64 lattice.
+  const double per_cell = d.cell_size / lat.spacing[0];
+  const int stride = std::max(1, int(std::floor(per_cell / kMorphometryGrid + 1e-9)));
+  std::array<int, 3> dims;
+  for (int c = 0; c < 3; ++c) dims[c] = (lat.nodes[c] + stride - 1) / stride;
+  const std::size_t count = std::size_t(dims[0]) * dims[1] * dims[2];
+  if (count > kMaxPartMorphometryNodes)
+    return {{"measured", false},
+            {"note", fmt::format("not measured: the part's lattice has {} nodes, more than {} "
+                                 "(its unit cell's measures stand)", count,
+                                 kMaxPartMorphometryNodes)}};
+  std::vector<std::uint8_t> solid(count), pore(count);
+  std::size_t at = 0;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i, ++at) {
+        const std::size_t id = lat.index(i * stride, j * stride, k * stride);
+        solid[at] = lat.value(id, level) > 0 && (lat.removed.empty() || !lat.removed[id]);
+        pore[at] = !solid[at] && (lat.clip.empty() || lat.clip[id] > 0);
+      }
+  const double voxel = stride * (lat.spacing[0] + lat.spacing[1] + lat.spacing[2]) / 3.0;
+  // Radii in quarter voxels: diameters at most half a voxel short, half the transforms.
+  constexpr double kPartRadiusStep = 0.25;
+  const ThicknessStats wall = thickness_stats(
+      box_local_thickness(solid, dims, true, kPartRadiusStep), solid, voxel);
+  const ThicknessStats pores = thickness_stats(
+      box_local_thickness(pore, dims, false, kPartRadiusStep), pore, voxel);
+  nlohmann::json m = {{"measured", true},
+                      {"wall_thickness", thickness_json(wall, d.units)},
+                      {"pore_size", thickness_json(pores, d.units)},
+                      {"voxel", voxel},
+                      {"nodes", dims},
+                      {"stride", stride}};
+  if (lat.clip.empty()) {
+    std::array<double, 3> throat = box_throat_diameter(pore, dims);
+    for (double& t : throat) t *= voxel;
+    m["throat"] = {{"diameter", throat},
+                   {"min", *std::min_element(throat.begin(), throat.end())},
+                   {"units", d.units},
+                   {"note", "largest ball that passes through the part's pores from each box "
+                            "face to the opposite one, along x, y, z"}};
+  }
+  m["method"] = "local thickness on the part's lattice (the box as trimmed, or the shape), at "
+                "the lattice spacing cell size / grid (every stride-th node past 64 voxels per "
+                "cell), not periodic: a wall ends where the box cuts it, a pore goes on past "
+                "the box; diameters within one voxel; p5, p50, p95: percentiles over the "
+                "phase's volume";
+  return m;
+}
+
 nlohmann::json surface_measures(const ScaffoldPart& part, const PartLattice& lat,
                                 const std::string& units) {
   const double area = part.report["area"].get<double>(),
@@ -419,6 +478,9 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
     t0 = std::chrono::steady_clock::now();
     morph.update(cell_morphometry(*g, transform, final_level, d, out.warnings));
     morph_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    morph["part"] = part_morphometry(lat, final_level, d);
+    r["seconds"]["morphometry_part"] = seconds_since(t0);
   }
   r["morphometry"] = morph;
   if (shape != nullptr) {
@@ -529,6 +591,12 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
+  if (d.morphometry) {
+    // The graded part as built: its thinnest wall is where the ramp is densest or thinnest.
+    const auto t_part = std::chrono::steady_clock::now();
+    morph["part"] = part_morphometry(lat, final_level, d);
+    r["seconds"]["morphometry_part"] = seconds_since(t_part);
+  }
   r["morphometry"] = morph;
   r["warnings"] = out.warnings;
   r["seconds"]["sample"] = sample_seconds;
@@ -626,11 +694,99 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
+  if (d.morphometry) {
+    // The graded part as built: its thinnest wall is where the ramp is densest or thinnest.
+    const auto t_part = std::chrono::steady_clock::now();
+    morph["part"] = part_morphometry(lat, final_level, d);
+    r["seconds"]["morphometry_part"] = seconds_since(t_part);
+  }
   r["morphometry"] = morph;
   r["warnings"] = out.warnings;
   r["seconds"]["distance_field"] = field_seconds;
   r["seconds"]["sample"] = sample_seconds;
   r["seconds"]["morphometry"] = morph_seconds;
+  return out;
+}
+
+ScaffoldPart design_graded_cell_scaffold(const Field& phi, const ScaffoldDesign& d,
+                                         const CellSizeRamp& ramp,
+                                         const DecimateProgress& progress) {
+  if (d.solid != SolidKind::kNetwork)
+    throw std::invalid_argument("a graded cell size is done for a network solid only");
+  if (!(ramp.from > 0 && ramp.to > 0 && ramp.from != ramp.to) || ramp.axis < 0 || ramp.axis > 2 ||
+      !(ramp.transition > 0 && ramp.transition <= 1))
+    throw std::invalid_argument("a graded cell size needs two different cell sizes > 0");
+  const int n = phi.n();
+  auto t0 = std::chrono::steady_clock::now();
+  const auto transform = [](double v) { return v - 0.5; };
+  const double fine = std::min(ramp.from, ramp.to), coarse = std::max(ramp.from, ramp.to);
+  PartLattice lat = sample_part(phi, d.size, fine, transform);
+  PartLattice other = lat;  // the same nodes, the other cell size
+  fill_part(other, phi, coarse, transform);
+  const std::vector<float>& at_from = ramp.from == fine ? lat.a : other.a;
+  const std::vector<float>& at_to = ramp.from == fine ? other.a : lat.a;
+  // Smoothstep weight of `to` per node layer along the axis (0 .. 1 over the transition).
+  const int layers = lat.nodes[ramp.axis];
+  std::vector<double> w(layers);
+  for (int q = 0; q < layers; ++q) {
+    const double s = (q + 0.5) / layers;
+    const double u = std::clamp((s - 0.5 + 0.5 * ramp.transition) / ramp.transition, 0.0, 1.0);
+    w[q] = u * u * (3.0 - 2.0 * u);
+  }
+  std::vector<float> blended(lat.count());
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    for (int j = 0; j < lat.nodes[1]; ++j)
+      for (int i = 0; i < lat.nodes[0]; ++i) {
+        const int at[3] = {i, j, k};
+        const std::size_t id = lat.index(i, j, k);
+        const double t = w[at[ramp.axis]];
+        blended[id] = float((1.0 - t) * at_from[id] + t * at_to[id]);
+      }
+  lat.a = std::move(blended);
+  other = PartLattice();
+  const double sample_seconds = seconds_since(t0);
+
+  ScaffoldDesign fine_design = d;
+  fine_design.cell_size = fine;
+  double final_level = 0.0;
+  ScaffoldPart out =
+      finish_part(lat, 0.0, fine_design, n, nlohmann::json(), final_level, progress);
+  nlohmann::json& r = out.report;
+  // design.cell_size and cells stay the finer cell's (the lattice's); the ends beside them.
+  r["design"]["cell_size_from"] = ramp.from;
+  r["design"]["cell_size_to"] = ramp.to;
+  const std::vector<double> target(layers, 1.0 - d.porosity);
+  r["graded_cell_size"] = {
+      {"axis", std::string(1, "xyz"[ramp.axis])},
+      {"cell_size_from", ramp.from},
+      {"cell_size_to", ramp.to},
+      {"transition", ramp.transition},
+      {"blend", "phi - 1/2 of the member at each cell size on the finer one's nodes, weights a "
+                "smoothstep over the middle `transition` of the part's length along the axis"},
+      {"profile", porosity_profile(lat, final_level, ramp.axis, target, fine_design)},
+      {"profile_note", "per slab of the finer cell along the axis: the target and the fraction "
+                       "of lattice nodes outside the solid"}};
+  nlohmann::json morph = surface_measures(out, lat, d.units);
+  t0 = std::chrono::steady_clock::now();
+  if (d.morphometry) {
+    nlohmann::json cells = nlohmann::json::array();
+    for (double size : {ramp.from, ramp.to}) {
+      ScaffoldDesign cell = d;
+      cell.cell_size = size;
+      cell.min_feature = 0.0;
+      nlohmann::json c = cell_morphometry(phi, transform, final_level, cell, out.warnings);
+      c["cell_size"] = size;
+      c["porosity"] = d.porosity;
+      cells.push_back(c);
+    }
+    warn_min_feature(cells, d, out.warnings);
+    morph["members"] = cells;
+    morph["part"] = part_morphometry(lat, final_level, d);
+  }
+  r["morphometry"] = morph;
+  r["warnings"] = out.warnings;
+  r["seconds"]["sample"] = sample_seconds;
+  r["seconds"]["morphometry"] = seconds_since(t0);
   return out;
 }
 

@@ -93,4 +93,21 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
                                  const PorosityRamp& ramp, const DecimateProgress& progress = {});
 
+// A graded cell size (a network): the member at cell size `from` at the low end of the axis and
+// at `to` at the high end, the two lattices (sampled on the finer one's nodes) blended with a
+// smoothstep weight over the middle `transition` of the part's length. Both are one member at
+// d.porosity, so the porosity holds along the axis; a ramp of the period itself would shear
+// the cells instead. d.cell_size is ignored. The report adds `graded_cell_size` (the ends,
+// the transition, the porosity per slab of the finer cell) and the two cells' morphometry in
+// `morphometry.members`. Throws std::invalid_argument on a sheet or a ramp out of range,
+// ClosedCellError as design_scaffold.
+struct CellSizeRamp {
+  double from = 2.0, to = 1.0;  // output units
+  int axis = 2;
+  double transition = 1.0 / 3.0;  // of the part's length along the axis, centred
+};
+ScaffoldPart design_graded_cell_scaffold(const Field& phi, const ScaffoldDesign& d,
+                                         const CellSizeRamp& ramp,
+                                         const DecimateProgress& progress = {});
+
 }  // namespace cmcsurf
