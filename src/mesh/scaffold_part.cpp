@@ -592,7 +592,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
   if (d.morphometry) {
-    // The graded part as built: its thinnest wall is where the ramp is densest or thinnest.
+    // The graded part as built: its thinnest wall is where the ramp puts it, not a member.
     const auto t_part = std::chrono::steady_clock::now();
     morph["part"] = part_morphometry(lat, final_level, d);
     r["seconds"]["morphometry_part"] = seconds_since(t_part);
@@ -695,7 +695,7 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
   if (d.morphometry) {
-    // The graded part as built: its thinnest wall is where the ramp is densest or thinnest.
+    // The graded part as built: its thinnest wall is where the ramp puts it, not a member.
     const auto t_part = std::chrono::steady_clock::now();
     morph["part"] = part_morphometry(lat, final_level, d);
     r["seconds"]["morphometry_part"] = seconds_since(t_part);
