@@ -94,7 +94,12 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
   const nlohmann::json& r = run.report;
   const nlohmann::json& design = r["design"];
   const std::string units = design["units"].get<std::string>();
-  const auto size = design["size"].get<std::vector<double>>();
+  std::vector<double> size(3);  // the box, or the shape's bounding box (design.size null)
+  for (int c = 0; c < 3; ++c)
+    size[c] = design["size"].is_array()
+                  ? design["size"][c].get<double>()
+                  : r["shape"]["bounding_box"]["max"][c].get<double>() -
+                        r["shape"]["bounding_box"]["min"][c].get<double>();
   const bool sheet = design["solid"].get<std::string>() == "sheet";
   const double from = r.contains("graded") ? r["graded"]["porosity_from"].get<double>() : NAN,
                to = r.contains("graded") ? r["graded"]["porosity_to"].get<double>() : NAN;

@@ -361,24 +361,24 @@ nlohmann::json porosity_profile(const PartLattice& lat, double level, int axis,
                                 const std::vector<double>& target_solid, const ScaffoldDesign& d) {
   nlohmann::json profile = nlohmann::json::array();
   const int layers = lat.nodes[axis];
-  std::vector<std::size_t> inside(layers, 0);
+  std::vector<std::size_t> inside(layers, 0), in_part(layers, 0);  // a shape: its nodes only
   for (int k = 0; k < lat.nodes[2]; ++k)
     for (int j = 0; j < lat.nodes[1]; ++j)
       for (int i = 0; i < lat.nodes[0]; ++i) {
         const std::size_t id = lat.index(i, j, k);
         const int at[3] = {i, j, k};
         inside[at[axis]] += lat.value(id, level) > 0.0 && !lat.removed[id];
+        in_part[at[axis]] += lat.clip.empty() || lat.clip[id] > 0;
       }
-  const double per_layer = double(lat.count()) / layers;
   const int slabs = std::max(1, int(std::lround(d.size[axis] / d.cell_size)));
   for (int b = 0; b < slabs; ++b) {
     const int q0 = b * layers / slabs, q1 = (b + 1) * layers / slabs;
-    double solid = 0.0, want = 0.0;
-    for (int q = q0; q < q1; ++q) solid += inside[q] / per_layer, want += target_solid[q];
+    double solid = 0.0, part = 0.0, want = 0.0;
+    for (int q = q0; q < q1; ++q) solid += inside[q], part += in_part[q], want += target_solid[q];
     profile.push_back({{"from", q0 * lat.spacing[axis]},
                        {"to", q1 * lat.spacing[axis]},
                        {"porosity_target", 1.0 - want / (q1 - q0)},
-                       {"porosity_nodes", 1.0 - solid / (q1 - q0)}});
+                       {"porosity_nodes", part > 0 ? 1.0 - solid / part : 1.0}});
   }
   return profile;
 }
@@ -398,6 +398,59 @@ void warn_min_feature(const nlohmann::json& cells, const ScaffoldDesign& d,
           key == std::string("wall_thickness") ? "thinnest wall" : "narrowest pore", v, d.units,
           (*thinnest)["porosity"].get<double>(), d.min_feature));
   }
+}
+
+// The lattice's box for a shape: its bounding box with two grid spacings around it, so that
+// the solid ends on the shape's surface rather than on the box.
+Vec3 shape_box(const ShapeFill& shape, const ScaffoldDesign& d, int n) {
+  const MeshStats ss = analyze_mesh(shape.mesh);
+  const double margin = 2.0 * d.cell_size / n;
+  Vec3 size;
+  for (int c = 0; c < 3; ++c) size[c] = ss.max[c] - ss.min[c] + 2 * margin;
+  return size;
+}
+
+// Cuts a lattice sampled on shape_box to the shape (origin, clip, skin, the reference volume);
+// returns FILE.json's `shape`.
+nlohmann::json cut_to_shape(PartLattice& lat, const ShapeFill& shape_fill,
+                            const ScaffoldDesign& d, int n) {
+  const ShapeFill* shape = &shape_fill;
+  const MeshStats ss = analyze_mesh(shape->mesh);
+  const double margin = 2.0 * d.cell_size / n;
+  for (int c = 0; c < 3; ++c) lat.origin[c] = ss.min[c] - margin;
+  const std::vector<float> sdf = shape_distance(shape->mesh, lat, shape->skin + 4.0 * margin);
+  // Distances into a's units (unit cells): the solid is also {sdf < 0}, and the skin
+  // {-skin < sdf < 0} is solid whatever the lattice.
+  const double k = 1.0 / d.cell_size;
+  lat.clip.resize(sdf.size());
+  for (std::size_t id = 0; id < sdf.size(); ++id) lat.clip[id] = float(-k * sdf[id]);
+  if (shape->skin > 0) {
+    lat.skin.resize(sdf.size());
+    for (std::size_t id = 0; id < sdf.size(); ++id)
+      lat.skin[id] = float(k * std::min(-double(sdf[id]), sdf[id] + shape->skin));
+  }
+  // The shape's volume: its triangles' (exact) unless shells may overlap, which those would
+  // count twice; then the union's as the lattice cuts it (within O(h^2) at edges).
+  lat.reference_volume = std::abs(ss.volume);
+  const bool overlap = shells_may_overlap(shape->mesh);
+  if (overlap) {
+    PartLattice inside;
+    inside.nodes = lat.nodes, inside.spacing = lat.spacing, inside.size = lat.size;
+    inside.origin = lat.origin, inside.a = lat.clip;
+    lat.reference_volume = mesh_volume(mesh_part(inside, 0.0));
+  }
+  return {{"volume", lat.reference_volume},
+           {"volume_triangles", std::abs(ss.volume)},
+           {"shells_may_overlap", overlap},
+           {"bounding_box", {{"min", ss.min}, {"max", ss.max}}},
+           {"triangles", ss.triangles},
+           {"skin", shape->skin},
+           {"units", d.units},
+           {"method", "signed distance by OpenVDB meshToLevelSet (rebuilt: the union "
+                      "of shells that may overlap) on the lattice's nodes; solid = "
+                      "lattice solid within the shape, plus the skin; volume: "
+                      "volume_triangles (their signed sum), or the union's on the "
+                      "lattice when shells may overlap"}};
 }
 
 }  // namespace
@@ -420,52 +473,9 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
   const double field_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   nlohmann::json shape_report;
-  PartLattice lat;
-  if (shape == nullptr) {
-    lat = sample_part(*g, d.size, d.cell_size, transform);
-  } else {
-    // The shape's bounding box with two grid spacings around it, so that the solid ends on
-    // the shape's surface rather than on the box.
-    const MeshStats ss = analyze_mesh(shape->mesh);
-    const double margin = 2.0 * d.cell_size / n;
-    Vec3 size;
-    for (int c = 0; c < 3; ++c) size[c] = ss.max[c] - ss.min[c] + 2 * margin;
-    lat = sample_part(*g, size, d.cell_size, transform);
-    for (int c = 0; c < 3; ++c) lat.origin[c] = ss.min[c] - margin;
-    const std::vector<float> sdf = shape_distance(shape->mesh, lat, shape->skin + 4.0 * margin);
-    // Distances into a's units (unit cells): the solid is also {sdf < 0}, and the skin
-    // {-skin < sdf < 0} is solid whatever the lattice.
-    const double k = 1.0 / d.cell_size;
-    lat.clip.resize(sdf.size());
-    for (std::size_t id = 0; id < sdf.size(); ++id) lat.clip[id] = float(-k * sdf[id]);
-    if (shape->skin > 0) {
-      lat.skin.resize(sdf.size());
-      for (std::size_t id = 0; id < sdf.size(); ++id)
-        lat.skin[id] = float(k * std::min(-double(sdf[id]), sdf[id] + shape->skin));
-    }
-    // The shape's volume: its triangles' (exact) unless shells may overlap, which those would
-    // count twice; then the union's as the lattice cuts it (within O(h^2) at edges).
-    lat.reference_volume = std::abs(ss.volume);
-    const bool overlap = shells_may_overlap(shape->mesh);
-    if (overlap) {
-      PartLattice inside;
-      inside.nodes = lat.nodes, inside.spacing = lat.spacing, inside.size = lat.size;
-      inside.origin = lat.origin, inside.a = lat.clip;
-      lat.reference_volume = mesh_volume(mesh_part(inside, 0.0));
-    }
-    shape_report = {{"volume", lat.reference_volume},
-                    {"volume_triangles", std::abs(ss.volume)},
-                    {"shells_may_overlap", overlap},
-                    {"bounding_box", {{"min", ss.min}, {"max", ss.max}}},
-                    {"triangles", ss.triangles},
-                    {"skin", shape->skin},
-                    {"units", d.units},
-                    {"method", "signed distance by OpenVDB meshToLevelSet (rebuilt: the union "
-                               "of shells that may overlap) on the lattice's nodes; solid = "
-                               "lattice solid within the shape, plus the skin; volume: "
-                               "volume_triangles (their signed sum), or the union's on the "
-                               "lattice when shells may overlap"}};
-  }
+  PartLattice lat = sample_part(*g, shape ? shape_box(*shape, d, n) : d.size, d.cell_size,
+                                transform);
+  if (shape != nullptr) shape_report = cut_to_shape(lat, *shape, d, n);
   const double sample_seconds = seconds_since(t0);
 
   double final_level = level;
@@ -496,7 +506,7 @@ ScaffoldPart design_scaffold(const Field& phi, const ScaffoldDesign& d, const Sh
 
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp,
-                                    const DecimateProgress& progress) {
+                                    const DecimateProgress& progress, const ShapeFill* shape) {
   if (d.solid != SolidKind::kNetwork)
     throw std::invalid_argument("a graded scaffold is a network solid");
   if (members.size() < 2) throw std::invalid_argument("a graded scaffold needs two members");
@@ -520,9 +530,10 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   // members that bracket it, so each member enters with a hat-function weight per layer.
   PartLattice lat;
   std::vector<double> target;  // solid fraction per node layer along the axis
+  const Vec3 box = shape ? shape_box(*shape, d, n) : d.size;
   for (std::size_t m = 0; m < members.size(); ++m) {
     PartLattice one =
-        sample_part(members[m].phi, d.size, d.cell_size, [](double v) { return v - 0.5; });
+        sample_part(members[m].phi, box, d.cell_size, [](double v) { return v - 0.5; });
     const int layers = one.nodes[ramp.axis];
     if (m == 0) {
       lat = one;
@@ -552,12 +563,33 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
           if (w != 0.0f) lat.a[lat.index(i, j, k)] += w * one.a[lat.index(i, j, k)];
         }
   }
-  const double sample_seconds = seconds_since(t0);
   ScaffoldDesign mean = d;
   mean.porosity = 0.5 * (ramp.from + ramp.to);
+  nlohmann::json shape_report;
+  if (shape != nullptr) {
+    // A shape follows the ramp along its bounding box's axis; its mean porosity is the ramp's
+    // weighted by the shape's section per node layer.
+    shape_report = cut_to_shape(lat, *shape, d, n);
+    std::vector<double> in(target.size(), 0.0);
+    for (int k = 0; k < lat.nodes[2]; ++k)
+      for (int j = 0; j < lat.nodes[1]; ++j)
+        for (int i = 0; i < lat.nodes[0]; ++i) {
+          const int at[3] = {i, j, k};
+          in[at[ramp.axis]] += lat.clip[lat.index(i, j, k)] > 0;
+        }
+    double sum = 0.0, weight = 0.0;
+    for (std::size_t q = 0; q < target.size(); ++q)
+      sum += in[q] * (1.0 - target[q]), weight += in[q];
+    if (weight > 0) mean.porosity = sum / weight;
+  }
+  const double sample_seconds = seconds_since(t0);
   double final_level = 0.0;
   ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level, progress);
   nlohmann::json& r = out.report;
+  if (shape != nullptr) {
+    r["shape"] = shape_report;
+    r["design"]["size"] = nullptr;
+  }
   const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
   double morph_seconds = 0.0;
@@ -582,6 +614,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
                  {"porosity_from", ramp.from},
                  {"porosity_to", ramp.to},
+                 {"porosity_mean", mean.porosity},  // over the box, or the shape's sections
                  {"member_volume_fractions", fractions},
                  {"blend", "phi - 1/2 of the two members bracketing the local solid fraction, "
                            "weights linear in it, per node layer along the axis"},

@@ -81,9 +81,12 @@ struct PorosityRamp {
 // its target. d.porosity is ignored (the ramp's mean is the overall target); the report adds
 // `graded` (the profile per cell along the axis) and per-member morphometry. Throws
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
+// shape: fill it instead of d.size's box (a graded fill: the ramp runs along its bounding
+// box's axis, the mean porosity is the ramp's weighted by the shape's section per layer).
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp,
-                                    const DecimateProgress& progress = {});
+                                    const DecimateProgress& progress = {},
+                                    const ShapeFill* shape = nullptr);
 
 // A graded sheet: the wall thickness ramps along the axis so that the porosity goes linearly
 // from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all

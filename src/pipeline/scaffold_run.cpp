@@ -563,7 +563,9 @@ std::optional<ShapeFill> read_shape(const ScaffoldOptions& o, bool ramp, Scaffol
   }
   if (o.given.count("size") > 0)
     throw OptionError("--size: not with --shape (the part is the shape's own bounding box)");
-  if (ramp) throw OptionError("--shape: takes one --porosity, not a ramp");
+  if (ramp && d.solid == SolidKind::kSheet)
+    throw OptionError("--shape: a sheet takes one --porosity (a graded fill of a shape is done "
+                      "for a network)");
   try {
     require_regular_file(o.shape, "--shape");  // a FIFO would block the open
   } catch (const std::runtime_error& e) {
@@ -786,7 +788,7 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
            : !ramp   ? design_scaffold(phi, d, fill, ctx.decimate)
            : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp, ctx.decimate)
                                           : design_graded_scaffold(members, d, *ramp,
-                                                                   ctx.decimate);
+                                                                   ctx.decimate, fill);
   } catch (const std::invalid_argument& e) {
     throw OptionError(fmt::format("--porosity: {}", e.what()));
   }
