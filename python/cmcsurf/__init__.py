@@ -22,6 +22,10 @@ in a sweep also ``member``, e.g. ``"G_0.30"``).
 from __future__ import annotations
 
 import inspect
+import numbers
+import operator
+import os
+import warnings
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
@@ -34,6 +38,7 @@ __all__ = [
     "relax", "run", "scattering", "surfaces", "sweep", "__version__",
 ]
 __all__ += ["volume_mesh"]
+__all__ += ["morphometry", "scaffold"]
 
 __version__: str = _cmcsurf.version()
 
@@ -478,6 +483,176 @@ def scattering(
                                "peak_width": peak_width, "peak_shape": peak_shape,
                                "absent_tol": absent_tol, "index_tol": index_tol}
     return _cmcsurf.scattering(source, options, threads)
+
+
+# The scaffold's own options (pipeline/scaffold_run.cpp, the table `cmcsurf scaffold` reads):
+# key, cli, help, type, default (None where the command line's is "" or none).
+_SCAFFOLD_OPTIONS: List[Dict[str, Any]] = _cmcsurf.scaffold_options()
+# Options a designer writes as numbers or tuples; the command line's text form is made here.
+_RAMPS = ("porosity", "cell_size", "target_modulus", "target_permeability")
+_PATHS = ("out", "shape", "cache")
+
+
+def _number_text(key: str, v: Any) -> str:
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        raise TypeError(f"{key}: got {v!r} of type {type(v).__name__}; accepted: a real number")
+    return repr(float(v))
+
+
+def _scaffold_value(o: Dict[str, Any], v: Any) -> Any:
+    """A keyword's value as the JSON value the option table takes (TypeError otherwise)."""
+    key = o["key"]
+    if key in _PATHS and isinstance(v, os.PathLike):
+        v = os.fspath(v)
+    if isinstance(v, str):
+        if o["type"] != "str":
+            raise TypeError(f"{key}: got {v!r} of type str; accepted: {o['type']}")
+        return v
+    if key in _RAMPS:  # V or (A, B)
+        if isinstance(v, (tuple, list)) and len(v) == 2:
+            return ":".join(_number_text(key, x) for x in v)
+        return _number_text(key, v)
+    if key == "size":  # A or (A, B, C)
+        if isinstance(v, (tuple, list)) and len(v) == 3:
+            return "x".join(_number_text(key, x) for x in v)
+        return _number_text(key, v)
+    if key == "material":  # E_GPa or (E_GPa, nu)
+        if isinstance(v, (tuple, list)) and len(v) == 2:
+            return ",".join(_number_text(key, x) for x in v)
+        return _number_text(key, v)
+    if o["type"] == "bool":
+        if not isinstance(v, (bool, np.bool_)):
+            raise TypeError(f"{key}: got {v!r} of type {type(v).__name__}; accepted: a bool")
+        return bool(v)
+    if o["type"] == "int":
+        if isinstance(v, (bool, np.bool_)):
+            raise TypeError(f"{key}: got {v!r}; accepted: an integer")
+        try:
+            return operator.index(v)
+        except TypeError:
+            raise TypeError(f"{key}: got {v!r} of type {type(v).__name__}; accepted: an "
+                            f"integer") from None
+    if o["type"] == "float":
+        return float(_number_text(key, v))
+    raise TypeError(f"{key}: got {v!r} of type {type(v).__name__}; accepted: a str")
+
+
+def _scaffold_parameter(o: Dict[str, Any]) -> inspect.Parameter:
+    default = o["default"]
+    if default == "" or default is None:
+        default = None
+    elif o["key"] in _RAMPS:  # a number on the command line's text ("2")
+        default = float(default)
+    annotation = {"str": str, "float": float, "int": int, "bool": bool}[o["type"]]
+    if o["key"] in _RAMPS:
+        annotation = Union[str, float, Tuple[float, float]]  # type: ignore[assignment]
+        if default is not None:
+            return _P(o["key"], _P.KEYWORD_ONLY, default=default, annotation=annotation)
+    elif o["key"] == "size":
+        annotation = Union[str, float, Tuple[float, float, float]]  # type: ignore[assignment]
+    elif o["key"] == "material":
+        annotation = Union[str, float, Tuple[float, float]]  # type: ignore[assignment]
+    elif o["key"] in _PATHS:
+        annotation = Union[str, "os.PathLike[str]"]  # type: ignore[assignment]
+    kind = _P.POSITIONAL_OR_KEYWORD if o["key"] == "out" else _P.KEYWORD_ONLY
+    return _P(o["key"], kind, default=_P.empty if o["key"] == "out" else default,
+              annotation=annotation if default is not None or o["key"] == "out"
+              else Optional[annotation])
+
+
+def _scaffold_doc() -> str:
+    lines = ["", "Scaffold options (as the command line's, `cmcsurf scaffold --help`):", ""]
+    for o in _SCAFFOLD_OPTIONS:
+        lines.append(f"    {o['key']} ({o['cli']}): {o['help']}")
+    return "\n".join(lines) + "\n"
+
+
+_SCAFFOLD_KEYS = {o["key"] for o in _SCAFFOLD_OPTIONS}
+# The run options `cmcsurf scaffold` takes: all but the surface's (it has its own --surface).
+_SCAFFOLD_RUN_SCOPES = ("initial", "grid", "solver")
+_SCAFFOLD_PROGRESS = _P("progress", _P.KEYWORD_ONLY, default=None,
+                        annotation=Optional[Callable[[str], Any]])
+
+
+def _scaffold_signature() -> inspect.Signature:
+    leading = [_scaffold_parameter(o) for o in _SCAFFOLD_OPTIONS]
+    named = {p.name for p in leading}
+    runs = [_parameter(o) for o in _RUN_OPTIONS
+            if o["scope"] in _SCAFFOLD_RUN_SCOPES and o["key"] not in named]
+    return inspect.Signature(leading + runs + [_THREADS, _SCAFFOLD_PROGRESS],
+                             return_annotation=Dict[str, Any])
+
+
+_SCAFFOLD_SIGNATURE = _scaffold_signature()
+
+
+def scaffold(*args: Any, **kwargs: Any) -> Dict[str, Any]:
+    """A printable scaffold, exactly as ``cmcsurf scaffold``: every option of the command is a
+    keyword (its long name with '-' -> '_', e.g. ``cell_size=2``, ``target_modulus=3``), with
+    the command line's default, and the run options of ``run`` (``grid``, ``fast``, ...) are
+    keywords too. Writes ``out`` (the mesh), ``out.json``, and unless ``no_page`` ``out.html``
+    and ``out.png``; returns the dict of ``out.json`` (``porosity``, ``morphometry``,
+    ``design``, ``properties``, ...; docs/scaffolds.md), the same numbers the command line
+    writes. ``porosity`` and the targets take a number or a ramp ``(A, B)`` along ``axis``,
+    ``size`` a number or ``(A, B, C)``, ``material`` ``(E_GPa, nu)``. Members are cached as the
+    command line caches them (``cache``). Warnings are issued as ``UserWarning``; ``progress``
+    gets each line the command line prints while it works. A bad option raises ValueError
+    (TypeError for a wrong type) with the command line's message; a part that cannot be made
+    (a target out of reach, closed cells) raises RuntimeError and writes nothing.
+    """
+    try:
+        bound = _SCAFFOLD_SIGNATURE.bind(*args, **kwargs)
+    except TypeError as e:
+        raise TypeError(f"scaffold() {e}") from None
+    # Only the keywords given count, as only the options typed do on the command line (a
+    # typed --cell-size lets no target solve it; a typed --grid is not with --resolution).
+    given = {k: v for k, v in bound.arguments.items() if v is not None}
+    bound.apply_defaults()
+    options = {o["key"]: _scaffold_value(o, given[o["key"]]) for o in _SCAFFOLD_OPTIONS
+               if o["key"] in given}
+    run_options = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in given.items()
+                   if k not in _SCAFFOLD_KEYS and k not in ("threads", "progress")}
+    report, notes = _cmcsurf.scaffold(options, run_options, bound.arguments["threads"],
+                                      bound.arguments["progress"])
+    for note in notes:
+        warnings.warn(note, UserWarning, stacklevel=2)
+    return report
+
+
+scaffold.__signature__ = _SCAFFOLD_SIGNATURE  # type: ignore[attr-defined]
+scaffold.__doc__ = (scaffold.__doc__ or "") + _scaffold_doc() + _options_doc(
+    [o["key"] for o in _RUN_OPTIONS if o["scope"] in _SCAFFOLD_RUN_SCOPES])
+
+
+def morphometry(
+    source: Union[Result, str, "os.PathLike[str]", Any],
+    solid: str = "network",
+    *,
+    porosity: Optional[float] = None,
+    thickness: Optional[float] = None,
+    cell_size: float = 1.0,
+    units: str = "mm",
+    threads: int = 0,
+) -> Dict[str, Any]:
+    """Wall thickness, pore size and throat of one unit cell, as ``cmcsurf scaffold`` measures
+    them (local thickness: the diameter of the largest ball inside the phase that holds each
+    voxel, on the periodic cell): ``source`` a :class:`Result`, an (N, N, N) field or a run
+    folder (or its field.vti); ``solid`` "network" (phase 1) or "sheet" (a wall around the
+    phi = 1/2 surface at ``porosity`` or of ``thickness`` in ``units``); ``cell_size`` in
+    ``units`` per cell. Returns ``wall_thickness`` and ``pore_size`` (mean, std, min, max, p5,
+    p50, p95, histogram), ``throat`` (diameter along x, y, z and min), ``voxel``, ``method``.
+    """
+    if isinstance(source, Result):
+        source = source.phi
+    if isinstance(source, os.PathLike):
+        source = os.fspath(source)
+    if not isinstance(source, str):
+        source = np.ascontiguousarray(source, dtype=np.float64)
+    nan = float("nan")
+    return _cmcsurf.morphometry(source, solid,
+                                nan if porosity is None else float(porosity),
+                                nan if thickness is None else float(thickness),
+                                float(cell_size), units, int(threads))
 
 
 def default_options() -> Dict[str, Any]:

@@ -53,6 +53,7 @@
 #include "pipeline/run_page.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
+#include "scaffold.h"
 
 namespace py = pybind11;
 
@@ -1268,6 +1269,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("properties_stage", &properties_stage, py::arg("results"), py::arg("options"),
         py::arg("threads"));
   m.def("scattering", &scattering, py::arg("source"), py::arg("options"), py::arg("threads"));
+  register_scaffold(m);
 
   // The methods' docstrings begin with their own signature, in the package's types.
   py::options options;

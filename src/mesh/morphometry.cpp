@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <numeric>
@@ -83,18 +84,24 @@ std::vector<double> periodic_edt2(const std::vector<std::uint8_t>& inside, int n
   return g;
 }
 
-std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n) {
-  const std::vector<double> d2 = periodic_edt2(inside, n);
+namespace {
+
+// Local thickness with `edt` as the distance transform (periodic or of a box); `cap` bounds
+// the radii (the distance that stands for "no outside voxel").
+std::vector<double> local_thickness_with(
+    const std::vector<std::uint8_t>& inside, double cap, double radius_step,
+    const std::function<std::vector<double>(const std::vector<std::uint8_t>&)>& edt) {
+  const std::vector<double> d2 = edt(inside);
   const std::size_t cells = d2.size();
   // Ball radii: the distinct distances that occur, thinned to steps of at least kRadiusStep.
   std::vector<double> radii;
   for (std::size_t c = 0; c < cells; ++c)
-    if (inside[c]) radii.push_back(std::sqrt(std::min(d2[c], double(n) * n)));
+    if (inside[c]) radii.push_back(std::sqrt(std::min(d2[c], cap * cap)));
   std::sort(radii.begin(), radii.end(), std::greater<>());
   radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
   std::vector<double> kept;
   for (double r : radii)
-    if (kept.empty() || kept.back() - r >= kRadiusStep) kept.push_back(r);
+    if (kept.empty() || kept.back() - r >= radius_step) kept.push_back(r);
   // Largest first: x lies in a ball of radius r inside the phase iff it is closer than r to a
   // centre whose own distance is >= r (the opening by that ball).
   std::vector<double> t(cells, 0.0);
@@ -103,7 +110,7 @@ std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int
   for (double r : kept) {
     if (left == 0) break;
     for (std::size_t c = 0; c < cells; ++c) not_centre[c] = !(inside[c] && d2[c] >= r * r - 1e-9);
-    const std::vector<double> to_centre = periodic_edt2(not_centre, n);
+    const std::vector<double> to_centre = edt(not_centre);
     for (std::size_t c = 0; c < cells; ++c)
       if (inside[c] && t[c] == 0.0 && to_centre[c] < r * r - 1e-9) {
         t[c] = std::max(1.0, 2.0 * r - 1.0);
@@ -113,6 +120,53 @@ std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int
   for (std::size_t c = 0; c < cells; ++c)
     if (inside[c] && t[c] == 0.0) t[c] = 1.0;  // a voxel is at least one voxel thick
   return t;
+}
+
+}  // namespace
+
+std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n) {
+  return local_thickness_with(inside, n, kRadiusStep, [n](const std::vector<std::uint8_t>& in) {
+    return periodic_edt2(in, n);
+  });
+}
+
+std::vector<double> box_edt2(const std::vector<std::uint8_t>& inside,
+                             const std::array<int, 3>& dims, bool outside_beyond) {
+  const std::size_t cells = std::size_t(dims[0]) * dims[1] * dims[2];
+  std::vector<double> g(cells);
+  for (std::size_t id = 0; id < cells; ++id) g[id] = inside[id] ? kFar : 0.0;
+  const std::size_t stride[3] = {1, std::size_t(dims[0]), std::size_t(dims[0]) * dims[1]};
+  // One axis at a time; a line gets a pad of outside at each end when the box's beyond is
+  // outside the phase.
+  const int pad = outside_beyond ? 1 : 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    const int len = dims[axis], m = len + 2 * pad;
+    const long lines = long(dims[a1]) * dims[a2];
+#pragma omp parallel
+    {
+      std::vector<double> f(m), d(m), z(m + 1);
+      std::vector<int> v(m);
+#pragma omp for schedule(static)
+      for (long line = 0; line < lines; ++line) {
+        const std::size_t base = (line % dims[a1]) * stride[a1] + (line / dims[a1]) * stride[a2];
+        if (pad) f[0] = f[m - 1] = 0.0;
+        for (int q = 0; q < len; ++q) f[pad + q] = g[base + q * stride[axis]];
+        edt_1d(f, d, v, z);
+        for (int q = 0; q < len; ++q) g[base + q * stride[axis]] = std::min(d[pad + q], kFar);
+      }
+    }
+  }
+  return g;
+}
+
+std::vector<double> box_local_thickness(const std::vector<std::uint8_t>& inside,
+                                        const std::array<int, 3>& dims, bool outside_beyond,
+                                        double radius_step) {
+  const double cap = *std::max_element(dims.begin(), dims.end());
+  return local_thickness_with(inside, cap, radius_step, [&](const std::vector<std::uint8_t>& in) {
+    return box_edt2(in, dims, outside_beyond);
+  });
 }
 
 ThicknessStats thickness_stats(const std::vector<double>& thickness,
@@ -232,6 +286,65 @@ std::array<double, 3> throat_diameter(const std::vector<std::uint8_t>& inside, i
             found[c] = true;
             throat[c] = std::max(1.0, 2.0 * std::sqrt(std::min(d2[v], double(n) * n)) - 1.0);
           }
+      }
+    if (found[0] && found[1] && found[2]) break;
+  }
+  return throat;
+}
+
+std::array<double, 3> box_throat_diameter(const std::vector<std::uint8_t>& inside,
+                                          const std::array<int, 3>& dims) {
+  const std::vector<double> d2 = box_edt2(inside, dims, false);
+  const std::size_t cells = d2.size();
+  const double cap = *std::max_element(dims.begin(), dims.end());
+  std::vector<std::size_t> order;
+  for (std::size_t c = 0; c < cells; ++c)
+    if (inside[c]) order.push_back(c);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return d2[a] > d2[b]; });
+  // Union-find over the active centres; each root knows which box faces its set touches
+  // (bit 2 axis: the low face, bit 2 axis + 1: the high one).
+  std::vector<std::int64_t> parent(cells, -1);  // -1: not yet active
+  std::vector<std::uint8_t> faces(cells, 0);
+  auto find = [&](std::size_t x) {
+    std::size_t r = x;
+    while (std::size_t(parent[r]) != r) r = std::size_t(parent[r]);
+    while (std::size_t(parent[x]) != r) {
+      const std::size_t up = std::size_t(parent[x]);
+      parent[x] = std::int64_t(r);
+      x = up;
+    }
+    return r;
+  };
+  std::array<double, 3> throat{0.0, 0.0, 0.0};
+  std::array<bool, 3> found{false, false, false};
+  const std::size_t stride[3] = {1, std::size_t(dims[0]), std::size_t(dims[0]) * dims[1]};
+  for (std::size_t v : order) {
+    parent[v] = std::int64_t(v);
+    const int at[3] = {int(v % dims[0]), int(v / dims[0] % dims[1]),
+                       int(v / (std::size_t(dims[0]) * dims[1]))};
+    std::size_t rv = v;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (at[axis] == 0) faces[rv] |= std::uint8_t(1u << (2 * axis));
+      if (at[axis] == dims[axis] - 1) faces[rv] |= std::uint8_t(2u << (2 * axis));
+    }
+    for (int axis = 0; axis < 3; ++axis)
+      for (int step : {-1, 1}) {
+        const int q = at[axis] + step;
+        if (q < 0 || q >= dims[axis]) continue;
+        const std::size_t u = step < 0 ? v - stride[axis] : v + stride[axis];
+        if (parent[u] < 0) continue;
+        const std::size_t ru = find(u);
+        rv = find(v);
+        if (ru == rv) continue;
+        parent[ru] = std::int64_t(rv);
+        faces[rv] |= faces[ru];
+      }
+    rv = find(v);
+    for (int c = 0; c < 3; ++c)
+      if (!found[c] && ((faces[rv] >> (2 * c)) & 3u) == 3u) {
+        found[c] = true;
+        throat[c] = std::max(1.0, 2.0 * std::sqrt(std::min(d2[v], cap * cap)) - 1.0);
       }
     if (found[0] && found[1] && found[2]) break;
   }

@@ -29,6 +29,17 @@ std::vector<double> periodic_edt2(const std::vector<std::uint8_t>& inside, int n
 // counts the voxel centres a ball spans, so that a slab m voxels thick gets m (m odd).
 std::vector<double> local_thickness(const std::vector<std::uint8_t>& inside, int n);
 
+// The same on a box of dims[0] x dims[1] x dims[2] voxels (x fastest), not periodic: beyond
+// the box is outside the phase when `outside_beyond` (a wall ends where the box cuts it), else
+// it is neither (a pore goes on past the box's faces, into the room around the part).
+// radius_step: ball radii closer than this (voxels) are merged to the larger, so diameters
+// read at most 2 radius_step short (local_thickness: 1/8; fewer transforms for coarser).
+std::vector<double> box_edt2(const std::vector<std::uint8_t>& inside,
+                             const std::array<int, 3>& dims, bool outside_beyond);
+std::vector<double> box_local_thickness(const std::vector<std::uint8_t>& inside,
+                                        const std::array<int, 3>& dims, bool outside_beyond,
+                                        double radius_step = 0.125);
+
 struct ThicknessStats {
   double mean = 0.0, std = 0.0, min = 0.0, max = 0.0;
   // Percentiles over the phase's voxels (volume-weighted): p5 is the thinnest wall a designer
@@ -49,5 +60,12 @@ nlohmann::json thickness_json(const ThicknessStats& s, const std::string& units)
 // face neighbours) to their own copy one period along the axis; the bottleneck of the
 // distance map. 0 along an axis where the phase does not percolate.
 std::array<double, 3> throat_diameter(const std::vector<std::uint8_t>& inside, int n);
+
+// The throat of a phase in a box along each axis: the diameter (voxels, as above) of the
+// largest ball that passes from one face of the box to the opposite one inside the phase
+// (centres at distance >= r from the phase's outside, the box's faces not counting as outside,
+// connected through face neighbours); 0 along an axis where the phase does not cross the box.
+std::array<double, 3> box_throat_diameter(const std::vector<std::uint8_t>& inside,
+                                          const std::array<int, 3>& dims);
 
 }  // namespace cmcsurf

@@ -146,6 +146,13 @@ PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
     lat.spacing[c] = size[c] / nodes;
     lat.size[c] = size[c];
   }
+  fill_part(lat, g, cell_size, transform);
+  return lat;
+}
+
+void fill_part(PartLattice& lat, const Field& g, double cell_size,
+               const std::function<double(double)>& transform) {
+  const int n = g.n();
   // Per axis: the lower cell index and weight of each node's position (periodic).
   std::array<std::vector<int>, 3> cell;
   std::array<std::vector<double>, 3> weight;
@@ -183,7 +190,6 @@ PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
         }
     });
   errors.rethrow();
-  return lat;
 }
 
 PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {

@@ -55,6 +55,10 @@ struct PartLattice {
 // Throws std::invalid_argument on a size or cell size out of range.
 PartLattice sample_part(const Field& g, const Vec3& size, double cell_size,
                         const std::function<double(double)>& transform, int refine = 1);
+// The same on the nodes `lat` already has (its nodes and spacing), with unit cells of edge
+// cell_size: a lattice of one cell size sampled at another's nodes (a graded cell size).
+void fill_part(PartLattice& lat, const Field& g, double cell_size,
+               const std::function<double(double)>& transform);
 
 // Connected components of the solid and of the pore space. Both are found on the nodes along
 // the edges of the Kuhn tetrahedra (14 neighbours): within a tetrahedron the part of a linear

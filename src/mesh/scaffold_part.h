@@ -81,9 +81,12 @@ struct PorosityRamp {
 // its target. d.porosity is ignored (the ramp's mean is the overall target); the report adds
 // `graded` (the profile per cell along the axis) and per-member morphometry. Throws
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
+// shape: fill it instead of d.size's box (a graded fill: the ramp runs along its bounding
+// box's axis, the mean porosity is the ramp's weighted by the shape's section per layer).
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp,
-                                    const DecimateProgress& progress = {});
+                                    const DecimateProgress& progress = {},
+                                    const ShapeFill* shape = nullptr);
 
 // A graded sheet: the wall thickness ramps along the axis so that the porosity goes linearly
 // from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all
@@ -92,5 +95,22 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 // cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold.
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
                                  const PorosityRamp& ramp, const DecimateProgress& progress = {});
+
+// A graded cell size (a network): the member at cell size `from` at the low end of the axis and
+// at `to` at the high end, the two lattices (sampled on the finer one's nodes) blended with a
+// smoothstep weight over the middle `transition` of the part's length. Both are one member at
+// d.porosity, so the porosity holds along the axis; a ramp of the period itself would shear
+// the cells instead. d.cell_size is ignored. The report adds `graded_cell_size` (the ends,
+// the transition, the porosity per slab of the finer cell) and the two cells' morphometry in
+// `morphometry.members`. Throws std::invalid_argument on a sheet or a ramp out of range,
+// ClosedCellError as design_scaffold.
+struct CellSizeRamp {
+  double from = 2.0, to = 1.0;  // output units
+  int axis = 2;
+  double transition = 1.0 / 3.0;  // of the part's length along the axis, centred
+};
+ScaffoldPart design_graded_cell_scaffold(const Field& phi, const ScaffoldDesign& d,
+                                         const CellSizeRamp& ramp,
+                                         const DecimateProgress& progress = {});
 
 }  // namespace cmcsurf
