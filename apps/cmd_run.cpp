@@ -264,7 +264,7 @@ int run(RunCommand& cmd, const CLI::App& app) {
                              : std::string());
   if (resume && !cmd.quiet)
     std::cerr << fmt::format("resuming {} before step {} ({} on {}^3, {:.1f} s done)\n",
-                             dir.string(), resume->step + 1, resume->cursor.stage,
+                             dir.string(), resume->step + 1, run_stage_name(resume->cursor.stage),
                              resume->cursor.grid, resume->elapsed);
   RunResult r;
   try {

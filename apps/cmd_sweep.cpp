@@ -574,7 +574,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       if (!cmd.quiet && world_root)
         std::cerr << fmt::format("[{}/{}] {}: resuming before step {} ({} on {}^3)\n",
                                  m.index + 1, m.count, m.name, start.checkpoint->step + 1,
-                                 start.checkpoint->cursor.stage, start.checkpoint->cursor.grid);
+                                 run_stage_name(start.checkpoint->cursor.stage),
+                                 start.checkpoint->cursor.grid);
       return start;
     }
     if (decision == kSkip) {

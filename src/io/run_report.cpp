@@ -298,14 +298,89 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   return j;
 }
 
+std::string stage_text(const StepRecord& r) {
+  std::string text(run_stage_name(r.stage));
+  for (int grid : r.coarse_grids) text += fmt::format("@{}", grid);
+  return text;
+}
+
+HistoryValue history_value(const StepRecord& r, HistoryColumn c) {
+  switch (c) {
+    case HistoryColumn::kStep: return static_cast<long long>(r.step);
+    case HistoryColumn::kStage: return stage_text(r);
+    case HistoryColumn::kTime: return r.time;
+    case HistoryColumn::kArea: return r.area;
+    case HistoryColumn::kDArea: return r.d_area;
+    case HistoryColumn::kDPhi: return r.d_phi;
+    case HistoryColumn::kEnergy: return r.energy;
+    case HistoryColumn::kMass: return r.mass;
+    case HistoryColumn::kVcycles: return static_cast<long long>(r.vcycles);
+    case HistoryColumn::kResidual: return r.residual;
+    case HistoryColumn::kElapsed: return r.elapsed;
+    case HistoryColumn::kDt: return r.dt;
+    case HistoryColumn::kVolumeFraction: return r.volume_fraction;
+  }
+  throw std::logic_error("history_value: a column without a case");
+}
+
+namespace {
+
+// "relax@16@32" -> relax, {16, 32}.
+void set_stage(StepRecord& r, const std::string& text) {
+  std::size_t at = text.find('@');
+  const auto stage = parse_run_stage(std::string_view(text).substr(0, at));
+  if (!stage) throw std::runtime_error(fmt::format("unknown stage '{}'", text));
+  r.stage = *stage;
+  r.coarse_grids.clear();
+  while (at != std::string::npos) {
+    const std::size_t next = text.find('@', at + 1);
+    const std::string grid = text.substr(at + 1, next == std::string::npos ? next : next - at - 1);
+    std::size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(grid, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != grid.size() || n < 2)
+      throw std::runtime_error(fmt::format("unknown stage '{}' (a grid after '@')", text));
+    r.coarse_grids.push_back(n);
+    at = next;
+  }
+}
+
+}  // namespace
+
+void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v) {
+  switch (c) {
+    case HistoryColumn::kStep: v.get_to(r.step); return;
+    case HistoryColumn::kStage: set_stage(r, v.get<std::string>()); return;
+    case HistoryColumn::kTime: v.get_to(r.time); return;
+    case HistoryColumn::kArea: v.get_to(r.area); return;
+    case HistoryColumn::kDArea: v.get_to(r.d_area); return;
+    case HistoryColumn::kDPhi: v.get_to(r.d_phi); return;
+    case HistoryColumn::kEnergy: v.get_to(r.energy); return;
+    case HistoryColumn::kMass: v.get_to(r.mass); return;
+    case HistoryColumn::kVcycles: v.get_to(r.vcycles); return;
+    case HistoryColumn::kResidual: v.get_to(r.residual); return;
+    case HistoryColumn::kElapsed: v.get_to(r.elapsed); return;
+    case HistoryColumn::kDt: v.get_to(r.dt); return;
+    case HistoryColumn::kVolumeFraction: v.get_to(r.volume_fraction); return;
+  }
+  throw std::logic_error("set_history_value: a column without a case");
+}
+
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
-  std::string out =
-      "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt,volume_fraction\n";
-  for (const StepRecord& r : history)
-    out += fmt::format(
-        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f},{:.17g},{:.17g}\n",
-        r.step, r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass, r.vcycles,
-        r.residual, r.elapsed, r.dt, r.volume_fraction);
+  const std::vector<HistoryColumnInfo>& columns = history_column_table();
+  std::string out = history_header() + "\n";
+  for (const StepRecord& r : history) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) out += ',';
+      std::visit([&](const auto& v) { out += fmt::format(fmt::runtime(columns[c].format), v); },
+                 history_value(r, columns[c].id));
+    }
+    out += '\n';
+  }
   write_file_atomic(path, out);
 }
 

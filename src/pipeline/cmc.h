@@ -15,6 +15,7 @@
 #include "measure/sharp_surface.h"
 #include "pipeline/component_constraint.h"
 #include "pipeline/continuation.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf {
 
@@ -134,8 +135,12 @@ Measures measure_field_diffuse(Field& phi, double epsilon);
 
 struct StepRecord {
   int step = 0;           // counts all time steps, pre-relaxation included
-  std::string stage;      // "prerelax" (step 3, at 5 eps), "relax" (step 6) or "volume"
-                          // (relaxations after the mass corrections of Constraint::kVolume)
+  RunStage stage = RunStage::kRelax;  // prerelax (step 3, at 5 eps), relax (step 6) or volume
+                                      // (relaxations after the mass corrections of kVolume)
+  // Coarse-to-fine continuation: the grids the step's run was carried up through, from the one
+  // it was taken on ("relax@16@32" in history.csv: on 16, for a run on 64); empty on the
+  // run's own grid.
+  std::vector<int> coarse_grids;
   double time = 0.0;
   double dt = 0.0;        // of this step
   double area = 0.0;      // at the stage's epsilon
@@ -214,7 +219,7 @@ using ProgressFn = std::function<void(const StepRecord&)>;
 // fields of a Checkpoint, enough to continue it to the same bits.
 struct RunCursor {
   int grid = 0;           // of the stage (N / 2^k during coarse-to-fine continuation)
-  std::string stage;      // "prerelax" (step 3), "relax" (step 6) or "volume" (a correction's)
+  RunStage stage = RunStage::kRelax;  // prerelax (step 3), relax (step 6), volume (corrections)
   int stage_steps = 0;    // steps taken in the stage's loop so far
   double dt = 0.0;        // of the next step
   double area = 0.0;      // area at the stage's epsilon before the next step
