@@ -267,8 +267,9 @@ int run(RunCommand& cmd, const CLI::App& app) {
                              dir.string(), resume->step + 1, run_stage_name(resume->cursor.stage),
                              resume->cursor.grid, resume->elapsed);
   RunResult r;
+  FinalFieldCache cache;  // the final measures' psi and samples, for run_outputs
   try {
-    r = run_cmc(p, context);
+    r = run_cmc(p, context, &cache);
   } catch (RunInterrupted& stop) {
     progress.finish();
     return finish_interrupted(dir, p, stop, sink, threads, resume_command(dir, *world),
@@ -280,7 +281,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
     // Every process measures, draws and meshes on its own block; the reductions give every
     // process the same numbers and rank 0 the pictures and the mesh. No process holds the whole
     // grid (docs/scaling.md, "Output").
-    RunOutputs outputs = run_outputs(r.phi, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+    RunOutputs outputs = run_outputs(r.phi, p, r, std::move(cache), !cmd.pages.no_preview,
+                                     !cmd.pages.no_report);
     const CmcQuality& quality = outputs.quality;
     std::optional<RunPreview>& preview = outputs.preview;
     nlohmann::json extra;
@@ -318,15 +320,17 @@ int run(RunCommand& cmd, const CLI::App& app) {
     } else {
       extra.update(decomposition_json(*world));
     }
+    const RunFieldSource field = world->distributed()
+                                     ? RunFieldSource(FieldPiecesWritten{field_seconds})
+                                     : RunFieldSource(std::cref(r.phi));
     const nlohmann::json report = write_run_folder(
-        dir, p, r, world->distributed() ? Field() : r.phi, quality, threads, cmd.float32, extra,
+        dir, p, r, field, quality, threads, cmd.float32, extra,
         [&](const nlohmann::json& report_to_be) {
           if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
           if (preview) write_png(dir / "preview.png", preview->image);
           if (!youngs.image.rgb.empty()) write_png(dir / kYoungsPictureName, youngs.image);
           if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
-        },
-        field_seconds);
+        });
     remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
     if (!cmd.quiet) print_summary(p, r, quality, report, dir);
     print_warnings(p, r);

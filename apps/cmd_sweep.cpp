@@ -445,7 +445,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count, m.surface,
                                m.alpha, m.started_from);
   };
-  auto done = [&](const SweepMember& m, RunResult& r) {
+  auto done = [&](const SweepMember& m, const RunResult r, FinalFieldCache cache) {
     // As `cmcsurf run` does: every process of the group computes the outputs on its blocks
     // (the group's rank 0 gets the pictures) and writes its piece of field.pvti; the group's
     // rank 0 writes the rest. No process holds the whole grid (docs/scaling.md, "Output").
@@ -463,7 +463,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     double field_seconds = 0.0;
     try {
       // Quality, preview.png and report.html's meshes (docs/report.md).
-      outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+      outputs = run_outputs(r.phi, m.params, r, std::move(cache), !cmd.pages.no_preview,
+                            !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
       if (cmd.properties.stage.enabled) {  // the member's solid (docs/properties.md)
@@ -486,16 +487,17 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
         std::optional<RunPreview>& preview = outputs->preview;
         GroupRows::Row row;
         row.index = m.index;
+        const RunFieldSource field = gd->distributed()
+                                         ? RunFieldSource(FieldPiecesWritten{field_seconds})
+                                         : RunFieldSource(std::cref(r.phi));
         row.report = write_run_folder(
-            dir / m.name, m.params, r, gd->distributed() ? Field() : r.phi, quality, threads,
-            cmd.float32, extra,
+            dir / m.name, m.params, r, field, quality, threads, cmd.float32, extra,
             [&](const nlohmann::json& report_to_be) {
               if (preview) write_png(dir / m.name / "preview.png", preview->image);
               if (!youngs.image.rgb.empty())
                 write_png(dir / m.name / kYoungsPictureName, youngs.image);
               if (outputs->page) write_run_page(dir / m.name, &*outputs->page, &report_to_be);
-            },
-            field_seconds);
+            });
         remove_checkpoint(dir / m.name / kCheckpointFileName);  // the member is complete
         if (preview)
           row.tile = GalleryMember{m.surface, m.name, m.alpha, r.final.mean_curvature,

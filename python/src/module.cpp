@@ -516,18 +516,20 @@ struct Result {
   nlohmann::json report;
   py::object phi_cache, report_cache, history_cache;
 
-  Result(const RunParams& p, RunResult r, int t, nlohmann::json x)
-      : params(p), result(std::move(r)), threads(t), extra(std::move(x)) {}
+  // The final measures' psi and samples that the run returned beside its result, until finish().
+  std::optional<FinalFieldCache> cache;
+
+  Result(const RunParams& p, RunResult r, int t, nlohmann::json x, FinalFieldCache c)
+      : params(p), result(std::move(r)), threads(t), extra(std::move(x)), cache(std::move(c)) {}
 
   // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
   // the solve.
   void finish() {
     // The final measures' psi and samples when the run kept them; then they are let go.
-    const bool kept = result.final_psi.n() == result.phi.n();
-    quality = run_quality(kept ? result.final_psi : profile_inverse(result.phi), params, result,
-                          kept ? &result.final_samples : nullptr);
-    result.final_psi = Field();
-    result.final_samples = {};
+    const bool kept = cache && cache->psi.n() == result.phi.n();
+    const Field psi = kept ? std::move(cache->psi) : profile_inverse(result.phi);
+    quality = run_quality(psi, params, result, kept ? &cache->samples : nullptr);
+    cache.reset();
     report = run_folder_report(params, result, quality, threads, extra);
   }
 
@@ -603,7 +605,7 @@ struct Result {
         x["page_seconds"] =
             seconds_since(t0);
       }
-      write_run_folder(dir, params, result, result.phi, quality, threads, float32, x,
+      write_run_folder(dir, params, result, std::cref(result.phi), quality, threads, float32, x,
                        [&](const nlohmann::json& report_to_be) {
                          if (picture) write_png(dir / "preview.png", picture->image);
                          if (page) write_run_page(dir, &*page_surfaces, &report_to_be);
@@ -667,7 +669,10 @@ std::shared_ptr<Result> run(const py::dict& options, py::handle threads, py::obj
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   auto out = ia.solve([&](const RunContext& c) {
-    auto r = std::make_shared<Result>(p, run_cmc(p, c), scope.count(), single_run_extra());
+    FinalFieldCache cache;
+    RunResult result = run_cmc(p, c, &cache);
+    auto r = std::make_shared<Result>(p, std::move(result), scope.count(), single_run_extra(),
+                                      std::move(cache));
     r->finish();
     return r;
   });
@@ -715,8 +720,9 @@ std::shared_ptr<Result> relax(py::handle phi, py::handle volume_fraction_arg,
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   return ia.solve([&](const RunContext& c) {
-    RunResult r = cmc ? run_cmc_from_field(start, p, c) : relax_field(start, p, c);
-    auto out = std::make_shared<Result>(p, std::move(r), scope.count(), extra);
+    FinalFieldCache cache;
+    RunResult r = cmc ? run_cmc_from_field(start, p, c, &cache) : relax_field(start, p, c, &cache);
+    auto out = std::make_shared<Result>(p, std::move(r), scope.count(), extra, std::move(cache));
     out->finish();
     return out;
   });
@@ -794,12 +800,13 @@ py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle co
   ia.solve([&](const RunContext& c) {
     run_sweep(
         sp, [&](const SweepMember& m) { ia.set_member(m.name); },
-        [&](const SweepMember& m, RunResult& r) {
+        [&](const SweepMember& m, RunResult r, FinalFieldCache cache) {
           auto res = std::make_shared<Result>(
               m.params, std::move(r), scope.count(),
               nlohmann::json{{"volume_fraction_target", m.alpha},
                              {"member", m.name},
-                             {"started_from", m.started_from}});
+                             {"started_from", m.started_from}},
+              std::move(cache));
           res->finish();
           reports.push_back(res->report);
           results.push_back(res);

@@ -597,16 +597,19 @@ void add_topology_warnings(RunResult& r, const RunParams& params) {
 namespace {
 
 // The sharp measures of the final field: once per run, after every stage.
-void measure_final(RunResult& r, const RunParams& params) {
+void measure_final(RunResult& r, const RunParams& params, FinalFieldCache* cache) {
   const auto t0 = WallClock::now();
   // The diffuse measures are the last relaxation's (Evolution::relax ends with them, on this
   // field); the sharp ones are added.
   r.phi.exchange_halo();
   CMCSURF_DCHECK(r.final.mass == mass(r.phi) && r.final.energy == energy(r.phi, params.epsilon));
-  // Keep psi and the samples (this process's block's) for the stages after the run.
-  r.final_psi = Field::like(r.phi, 2);
-  tanh_profile_inverse(r.phi, r.final_psi);
-  add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
+  // psi and the samples (this process's block's), kept in `cache` for the stages after the run.
+  FinalFieldCache local;
+  FinalFieldCache& keep = cache ? *cache : local;
+  keep.psi = Field::like(r.phi, 2);
+  tanh_profile_inverse(r.phi, keep.psi);
+  keep.samples.clear();
+  add_sharp_measures(r.final, r.phi, &keep.psi, &keep.samples);
   add_component_measures(r);
   r.measure_seconds = seconds_since(t0);
   if (!(r.final.area > 0.0))
@@ -638,13 +641,13 @@ RunResult resumed_result(const RunParams& params, const RunContext& context) {
 // A run that starts from a given field (copied), or continues the context's checkpoint:
 // steps 6 and after, and the final measures.
 RunResult relax_from(const Field& phi0, const RunParams& params, const RunContext& context,
-                     bool hold_volume) {
+                     bool hold_volume, FinalFieldCache* cache) {
   if (context.resume) {
     RunResult result = resumed_result(params, context);
     Evolution evolution(params, context, result);
     evolution.restore(*context.resume);
     relax_and_constrain(evolution, params, result, hold_volume);
-    measure_final(result, params);
+    measure_final(result, params, cache);
     return result;
   }
   RunResult result;
@@ -654,7 +657,7 @@ RunResult relax_from(const Field& phi0, const RunParams& params, const RunContex
   result.seed_topology = phase_topology(result.initial);
   Evolution evolution(params, context, result);
   relax_and_constrain(evolution, params, result, hold_volume);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   add_topology_warnings(result, params);
   return result;
 }
@@ -674,16 +677,17 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
 
 }  // namespace
 
-RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context,
+                      FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kRelax);
-  return relax_from(phi0, params, context, false);
+  return relax_from(phi0, params, context, false, cache);
 }
 
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const RunContext& context) {
+                                   const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kRelaxToVolume);
   const bool hold = params.constrain == Constraint::kVolume && is_nodal_surface(params.surface);
-  return relax_from(phi0, params, context, hold);
+  return relax_from(phi0, params, context, hold, cache);
 }
 
 namespace {
@@ -762,26 +766,26 @@ InitialFieldParams initial_field_params(const RunParams& params) {
 
 }  // namespace
 
-RunResult run_cmc(const RunParams& params, const RunContext& context) {
+RunResult run_cmc(const RunParams& params, const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kCmc);
   if (!is_nodal_surface(params.surface)) {  // sphere, cube, noise: a direct relaxation
-    if (context.resume) return relax_field(Field(), params, context);
+    if (context.resume) return relax_field(Field(), params, context, cache);
     return relax_field(make_initial_field(initial_field_params(params), params.grid, 2,
                                           context.decomposition),
-                       params, context);
+                       params, context, cache);
   }
   RunResult result = run_cmc_stages(params, context);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   add_topology_warnings(result, params);
   return result;
 }
 
 RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
-                             const RunContext& context) {
+                             const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kCmcFromField);
   RunResult result = run_cmc_stages(params, context, &phi0);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   add_topology_warnings(result, params);
   return result;

@@ -196,11 +196,6 @@ struct RunResult {
   double wall_seconds = 0.0;    // the solve: steps 1-6, corrections and continuation
   double solver_seconds = 0.0;  // inside the V-cycles
   double measure_seconds = 0.0;  // the sharp measures of the final field
-  // What the final measures computed on the way, for the stages after the run (run_outputs
-  // takes them): psi = atanh(2 phi - 1) of the final field (ghost 2) and its surface's local
-  // mean curvature samples. Whole grids only (empty on a decomposed block).
-  Field final_psi;
-  std::vector<CurvatureSample> final_samples;
   // Double structures (whole grids; empty otherwise). Constraint::kComponents: each
   // component's target volume and final sharp volume. The seed's topology (the field step 6
   // starts from), each connected piece of the final surface (measure/components.h) and the
@@ -210,6 +205,14 @@ struct RunResult {
   std::optional<PhaseTopology> seed_topology;
   std::vector<InterfaceMeasures> interfaces;
   std::vector<std::string> warnings;
+};
+
+// What the final measures computed on the way, returned beside the result for the stages after
+// the run (run_outputs): psi = atanh(2 phi - 1) of the final field (ghost 2; this process's
+// block under a decomposition) and its surface's local mean curvature samples.
+struct FinalFieldCache {
+  Field psi;
+  std::vector<CurvatureSample> samples;
 };
 
 // Called after every time step with the step's record.
@@ -307,25 +310,29 @@ void truncate_unit_interval(Field& phi);
 void shift_mean(Field& phi, double alpha);
 
 // Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
-RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context = {});
+// Each entry point fills `cache` (if given) with the final measures' psi and samples.
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context = {},
+                      FinalFieldCache* cache = nullptr);
 
 // Steps 6 and after from a given start (copied): relaxes at params.epsilon and, for a nodal
 // surface with Constraint::kVolume, corrects the mass until the sharp volume fraction is
 // params.volume_fraction (the same secant iteration as run_cmc). Sweeps continue a family
 // from its previous member with it.
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const RunContext& context = {});
+                                   const RunContext& context = {},
+                                   FinalFieldCache* cache = nullptr);
 
 
 // Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
 // parameters the caller should have validated.
-RunResult run_cmc(const RunParams& params, const RunContext& context = {});
+RunResult run_cmc(const RunParams& params, const RunContext& context = {},
+                  FinalFieldCache* cache = nullptr);
 
 // Steps 2-6 and the volume constraint (Section 4.4) from a given phi^0 (copied, any ghost width)
 // instead of the surface's formula, then the final measures, as run_cmc: a user's own field
 // relaxed to the CMC surface at params.volume_fraction (python relax()). No coarse-to-fine
 // continuation (params.coarse_levels is ignored: there is no coarser version of the field).
 RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
-                             const RunContext& context = {});
+                             const RunContext& context = {}, FinalFieldCache* cache = nullptr);
 
 }  // namespace cmcsurf
