@@ -31,6 +31,7 @@
 #include "properties_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf::cli {
 
@@ -133,23 +134,32 @@ std::string genus_text(const Measures& m) {
   return fmt::format("genus {}", 1 - m.euler_characteristic);
 }
 
+// The numbers in the formats of the report key table (schema/report_schema.h, summary).
 void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
                    const nlohmann::json& report, const std::filesystem::path& dir) {
+  auto number = [](const char* key, double x) { return summary_number(key, x); };
   std::cerr << fmt::format(
-      "{} after {} steps ({} V-cycles, {:.2f} V-cycles/step, {:.2f} ms/V-cycle) in {:.2f} s\n",
+      "{} after {} steps ({} V-cycles, {} V-cycles/step, {} ms/V-cycle) in {} s\n",
       r.converged ? "converged" : "NOT converged (max-steps reached)", r.steps, r.vcycles,
-      report["vcycles_per_step"].get<double>(), 1e3 * report["seconds_per_vcycle"].get<double>(),
-      r.wall_seconds);
+      number("vcycles_per_step", report["vcycles_per_step"].get<double>()),
+      number("seconds_per_vcycle", 1e3 * report["seconds_per_vcycle"].get<double>()),
+      number("wall_seconds", r.wall_seconds));
   std::cerr << fmt::format(
-      "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction {:.5f}\n"
-      "local H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  (measures {:.2f} s, quality "
-      "{:.2f} s)\nphase 1: Euler characteristic {} ({}) per unit cell\nwrote "
+      "area {}{}  mean curvature {}{} (from mu {})  volume fraction {}\n"
+      "local H std {}{}  diffuse layer: area {} H {}  (measures {} s, quality {} s)\n"
+      "phase 1: Euler characteristic {} ({}) per unit cell\nwrote "
       "{}/report.json, history.csv, {}\n",
-      r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
-      plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
-      r.final.volume_fraction, quality.relaxed.std,
-      quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
-      r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
+      number("area", r.final.area), plus_minus(r.final.area_error),
+      number("mean_curvature", r.final.mean_curvature), plus_minus(r.final.mean_curvature_error),
+      number("mean_curvature_mu", r.final.mean_curvature_mu),
+      number("volume_fraction", r.final.volume_fraction),
+      number("mean_curvature_std", quality.relaxed.std),
+      quality.has_nodal
+          ? fmt::format(" (nodal {})", number("nodal_mean_curvature_std", quality.nodal.std))
+          : "",
+      number("area_diffuse", r.final.area_diffuse),
+      number("mean_curvature_diffuse", r.final.mean_curvature_diffuse),
+      number("measure_seconds", r.measure_seconds), number("quality_seconds", quality.seconds),
       r.final.euler_characteristic, genus_text(r.final), dir.string(),
       report.value("mpi_ranks", 1) > 1 ? "field.pvti (field/: one piece per process)"
                                        : "field.vti");

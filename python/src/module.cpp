@@ -1252,6 +1252,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("surfaces", &surfaces);
   m.def("default_options", [] { return to_python(params_json(RunParams{})); });
   m.def("run_options", &run_option_schema);
+  m.def("report_schema", &report_schema);
   m.def("run", &run, py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("relax", &relax, py::arg("phi"), py::arg("volume_fraction"), py::arg("algorithm"),
         py::arg("options"), py::arg("threads"), py::arg("progress"));

@@ -228,73 +228,11 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   // Under mpirun: every rank's OpenMP threads (parallel/threads.h), rank 0's are `threads`.
   if (threads_per_rank().size() > 1) j["threads_per_rank"] = threads_per_rank();
   j["parameters"] = params_json(p);
-  j["conventions"] = {
-      {"phase_1", "phi > 1/2"},
-      {"area",
-       "area of the phi = 1/2 surface: the zero set of the piecewise-linear interpolant "
-       "of psi = atanh(2 phi - 1), second order in h (docs/method.md, sharp measures)"},
-      {"mean_curvature",
-       "mean curvature of the phi = 1/2 surface, area-weighted average of the local "
-       "H = -div(grad psi/|grad psi|)/2 on it; positive when phase 1 is convex (1/r for a ball)"},
-      {"area_error", "Richardson estimate |A_h - A_2h|/3 with A_2h from psi averaged to N/2"},
-      {"euler_characteristic",
-       "of phase 1 (phi > 1/2) as the union of its closed voxels in the periodic cell: tells "
-       "which member of a family a run found near a topology change (docs/families.md)"},
-      {"euler_characteristic_start",
-       "the same of the nodal start phi^0 (step 1's field): the family's topology; "
-       "topology_changed: the run ended on a member of another one"},
-      {"genus",
-       "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
-       "connected (P 3, G 5, D 9; a ball 0)"},
-      {"euler_characteristic_phase1", "= euler_characteristic (phase 1, phi > 1/2)"},
-      {"euler_characteristic_phase2", "of phase 2 (phi < 1/2), as closed voxels the same way"},
-      {"euler_characteristic_surface",
-       "of the phi = 1/2 surface per computed cell: phase1 + phase2 (= 2 chi(phase 1) for a "
-       "resolved surface; P -4, D -16, G -8 at 1/2)"},
-      {"components_phase1", "connected components of phase 1 on the 3-torus (26-connected "
-                            "voxels); null on a decomposed grid above 128^3"},
-      {"surface_components", "(phase 1, phase 2) component pairs that touch: the surface's "
-                             "connected pieces (a pair meeting on two sheets counts once)"},
-      {"genus_surface", "genus of each connected piece of the surface, 1 - chi_surface / "
-                        "(2 surface_components): their mean when the pieces differ"},
-      {"homogeneity_index", "Gamma = A^(3/2) / (2 pi |chi_surface|)^(1/2), area A per cell of "
-                            "volume 1 (Hyde 1989; any cell of the lattice gives the same)"},
-      {"gaussian_curvature_integral", "integral of K dA over the sharp surface, K from "
-                                      "grad psi and its Hessian like H"},
-      {"gauss_bonnet_error", "gaussian_curvature_integral / (2 pi chi_surface) - 1"},
-      {"mean_gaussian_curvature", "gaussian_curvature_integral / area: <K> a^2"},
-      {"willmore_energy", "integral of H^2 dA over the sharp surface"},
-      {"interfaces",
-       "one entry per component of the phase with more components (phase 1 when both have "
-       "one): its boundary's area, mean_curvature, mean_curvature_std, "
-       "gaussian_curvature_integral and euler_characteristic (2 chi of the component) and the "
-       "component's enclosed_volume; the surface's connected pieces when each such component "
-       "touches one component of the other phase (docs/science.md, double structures)"},
-      {"component_volume_targets",
-       "--constrain components: the volume each component of phase 1 holds (its seed's, "
-       "scaled to sum to alpha); component_volumes: the final sharp volumes"},
-      {"warnings", "what the command line printed as warnings: the result's topology differs "
-                   "from its seed's, or the seed's components share one volume constraint"},
-      {"crystallographic_cell",
-       "the space group's cubic cell the literature states numbers in (P Im-3m, D Pn-3m with "
-       "a/2: 8 per computed cell, G Ia-3d); lattice_parameter over the computed a; area per "
-       "cell in its own units, chi per cell, mean_curvature = H a_c, mean_gaussian_curvature = "
-       "<K> a_c^2 (docs/science.md)"},
-      {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
-      {"mean_curvature_diffuse",
-       "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},
-      {"mean_curvature_mu",
-       "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
-       "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
-      {"mean_curvature_mu_gap", "mean_curvature_mu - mean_curvature"},
-      {"volume_fraction",
-       "volume fraction of phi > 1/2: the 1/2 iso-surface of the piecewise-linear interpolant of "
-       "the cell-centre values with its O(h^2) curvature bias removed (docs/volume.md)"},
-      {"volume_fraction_cells", "fraction of cells with phi > 1/2"},
-      {"volume_iterates",
-       "--constrain volume: (mass, volume_fraction) after step 6 and after "
-       "each mass correction and relaxation"},
-      {"mass", "mean of phi"}};
+  // What the keys mean: the report key table's help of the keys it marks (schema/).
+  nlohmann::json conventions = {{"phase_1", "phi > 1/2"}};
+  for (const ReportKey& k : report_key_table())
+    if (k.convention) conventions[std::string(k.key)] = std::string(k.help);
+  j["conventions"] = conventions;
   return j;
 }
 
@@ -442,18 +380,12 @@ CsvCell json_cell(const nlohmann::json& v) {
 }  // namespace
 
 std::string sweep_csv(const std::vector<nlohmann::json>& reports) {
-  static const std::vector<std::string> kFirst = {
-      "surface", "volume_fraction_target", "volume_fraction", "area", "area_error",
-      "mean_curvature", "mean_curvature_error", "mean_curvature_mu", "mean_curvature_std",
-      "area_diffuse", "mean_curvature_diffuse", "area_iso", "nodal_area", "nodal_area_iso",
-      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_std_ratio",
-      "nodal_area_excess", "nodal_area_excess_iso"};
   std::vector<std::string> header;
   std::set<std::string> seen;
   auto add = [&](const std::string& key) {
     if (seen.insert(key).second) header.push_back(key);
   };
-  for (const std::string& key : kFirst) add(key);
+  for (std::string_view key : sweep_leading_columns()) add(std::string(key));
   for (const nlohmann::json& r : reports)
     for (auto it = r.begin(); it != r.end(); ++it)
       if (!it->is_object() && !it->is_array()) add(it.key());

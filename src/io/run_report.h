@@ -103,7 +103,7 @@ void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQ
 void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q);
 
 // sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
-// booleans; null is an empty cell), the main quantities first.
+// booleans; null is an empty cell), sweep_leading_columns() first.
 std::string sweep_csv(const std::vector<nlohmann::json>& reports);
 
 }  // namespace cmcsurf
