@@ -111,7 +111,7 @@ void Progress::step(const StepRecord& r) {
   if (quiet_) return;
   last_ = r;
   last_printed_ = false;
-  const bool new_stage = r.stage != last_stage_;
+  const bool new_stage = stage_text(r) != last_stage_;
   const double interval = tty_ ? 0.1 : 5.0;
   if (!new_stage && r.elapsed - last_print_ < interval) return;
   print(r, new_stage);
@@ -119,11 +119,11 @@ void Progress::step(const StepRecord& r) {
 
 void Progress::print(const StepRecord& r, bool new_stage) {
   last_print_ = r.elapsed;
-  last_stage_ = r.stage;
+  last_stage_ = stage_text(r);
   last_printed_ = true;
   const std::string line =
       fmt::format("{:<8} step {:>6}  t {:9.4f}  area {:.8f}  dA {:+.3e}  V-cycles {:>2}  {:7.1f} s",
-                  r.stage, r.step, r.time, r.area, r.d_area, r.vcycles, r.elapsed);
+                  stage_text(r), r.step, r.time, r.area, r.d_area, r.vcycles, r.elapsed);
   if (tty_) {
     if (new_stage && pending_newline_) std::fputc('\n', stderr);
     std::fprintf(stderr, "\r%s", line.c_str());
@@ -135,7 +135,7 @@ void Progress::print(const StepRecord& r, bool new_stage) {
 }
 
 void Progress::finish() {
-  if (!quiet_ && !last_printed_) print(last_, last_.stage != last_stage_);
+  if (!quiet_ && !last_printed_) print(last_, stage_text(last_) != last_stage_);
   if (pending_newline_) std::fputc('\n', stderr);
   pending_newline_ = false;
 }

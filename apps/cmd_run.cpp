@@ -31,6 +31,7 @@
 #include "properties_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf::cli {
 
@@ -133,23 +134,32 @@ std::string genus_text(const Measures& m) {
   return fmt::format("genus {}", 1 - m.euler_characteristic);
 }
 
+// The numbers in the formats of the report key table (schema/report_schema.h, summary).
 void print_summary(const RunParams& p, const RunResult& r, const CmcQuality& quality,
                    const nlohmann::json& report, const std::filesystem::path& dir) {
+  auto number = [](const char* key, double x) { return summary_number(key, x); };
   std::cerr << fmt::format(
-      "{} after {} steps ({} V-cycles, {:.2f} V-cycles/step, {:.2f} ms/V-cycle) in {:.2f} s\n",
+      "{} after {} steps ({} V-cycles, {} V-cycles/step, {} ms/V-cycle) in {} s\n",
       r.converged ? "converged" : "NOT converged (max-steps reached)", r.steps, r.vcycles,
-      report["vcycles_per_step"].get<double>(), 1e3 * report["seconds_per_vcycle"].get<double>(),
-      r.wall_seconds);
+      number("vcycles_per_step", report["vcycles_per_step"].get<double>()),
+      number("seconds_per_vcycle", 1e3 * report["seconds_per_vcycle"].get<double>()),
+      number("wall_seconds", r.wall_seconds));
   std::cerr << fmt::format(
-      "area {:.6f}{}  mean curvature {:.5f}{} (from mu {:.5f})  volume fraction {:.5f}\n"
-      "local H std {:.4g}{}  diffuse layer: area {:.6f} H {:.5f}  (measures {:.2f} s, quality "
-      "{:.2f} s)\nphase 1: Euler characteristic {} ({}) per unit cell\nwrote "
+      "area {}{}  mean curvature {}{} (from mu {})  volume fraction {}\n"
+      "local H std {}{}  diffuse layer: area {} H {}  (measures {} s, quality {} s)\n"
+      "phase 1: Euler characteristic {} ({}) per unit cell\nwrote "
       "{}/report.json, history.csv, {}\n",
-      r.final.area, plus_minus(r.final.area_error), r.final.mean_curvature,
-      plus_minus(r.final.mean_curvature_error), r.final.mean_curvature_mu,
-      r.final.volume_fraction, quality.relaxed.std,
-      quality.has_nodal ? fmt::format(" (nodal {:.4g})", quality.nodal.std) : "",
-      r.final.area_diffuse, r.final.mean_curvature_diffuse, r.measure_seconds, quality.seconds,
+      number("area", r.final.area), plus_minus(r.final.area_error),
+      number("mean_curvature", r.final.mean_curvature), plus_minus(r.final.mean_curvature_error),
+      number("mean_curvature_mu", r.final.mean_curvature_mu),
+      number("volume_fraction", r.final.volume_fraction),
+      number("mean_curvature_std", quality.relaxed.std),
+      quality.has_nodal
+          ? fmt::format(" (nodal {})", number("nodal_mean_curvature_std", quality.nodal.std))
+          : "",
+      number("area_diffuse", r.final.area_diffuse),
+      number("mean_curvature_diffuse", r.final.mean_curvature_diffuse),
+      number("measure_seconds", r.measure_seconds), number("quality_seconds", quality.seconds),
       r.final.euler_characteristic, genus_text(r.final), dir.string(),
       report.value("mpi_ranks", 1) > 1 ? "field.pvti (field/: one piece per process)"
                                        : "field.vti");
@@ -264,11 +274,12 @@ int run(RunCommand& cmd, const CLI::App& app) {
                              : std::string());
   if (resume && !cmd.quiet)
     std::cerr << fmt::format("resuming {} before step {} ({} on {}^3, {:.1f} s done)\n",
-                             dir.string(), resume->step + 1, resume->cursor.stage,
+                             dir.string(), resume->step + 1, run_stage_name(resume->cursor.stage),
                              resume->cursor.grid, resume->elapsed);
   RunResult r;
+  FinalFieldCache cache;  // the final measures' psi and samples, for run_outputs
   try {
-    r = run_cmc(p, context);
+    r = run_cmc(p, context, &cache);
   } catch (RunInterrupted& stop) {
     progress.finish();
     return finish_interrupted(dir, p, stop, sink, threads, resume_command(dir, *world),
@@ -280,7 +291,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
     // Every process measures, draws and meshes on its own block; the reductions give every
     // process the same numbers and rank 0 the pictures and the mesh. No process holds the whole
     // grid (docs/scaling.md, "Output").
-    RunOutputs outputs = run_outputs(r.phi, p, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+    RunOutputs outputs = run_outputs(r.phi, p, r, std::move(cache), !cmd.pages.no_preview,
+                                     !cmd.pages.no_report);
     const CmcQuality& quality = outputs.quality;
     std::optional<RunPreview>& preview = outputs.preview;
     nlohmann::json extra;
@@ -318,15 +330,17 @@ int run(RunCommand& cmd, const CLI::App& app) {
     } else {
       extra.update(decomposition_json(*world));
     }
+    const RunFieldSource field = world->distributed()
+                                     ? RunFieldSource(FieldPiecesWritten{field_seconds})
+                                     : RunFieldSource(std::cref(r.phi));
     const nlohmann::json report = write_run_folder(
-        dir, p, r, world->distributed() ? Field() : r.phi, quality, threads, cmd.float32, extra,
+        dir, p, r, field, quality, threads, cmd.float32, extra,
         [&](const nlohmann::json& report_to_be) {
           if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
           if (preview) write_png(dir / "preview.png", preview->image);
           if (!youngs.image.rgb.empty()) write_png(dir / kYoungsPictureName, youngs.image);
           if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
-        },
-        field_seconds);
+        });
     remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
     if (!cmd.quiet) print_summary(p, r, quality, report, dir);
     print_warnings(p, r);

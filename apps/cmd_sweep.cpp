@@ -34,6 +34,7 @@
 #include "properties_options.h"
 #include "pipeline/run_page.h"
 #include "run_control.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf::cli {
 
@@ -128,14 +129,24 @@ SweepParams validate(SweepCommand& cmd) {
   return sp;
 }
 
-void print_member(const SweepMember& m, const RunResult& r, const CmcQuality& quality) {
+double number_in(const nlohmann::json& report, const char* key) {
+  const auto it = report.find(key);
+  return it != report.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
+// A member's line from its report.json, in the formats of the report key table
+// (schema/report_schema.h, member_line); `where`: " (group G)" for another group's member.
+void print_member_line(const nlohmann::json& r, int index, int count, const std::string& where) {
+  auto number = [&](const char* key) { return member_line_number(key, number_in(r, key)); };
+  const double excess = number_in(r, "nodal_area_excess");
   std::cerr << fmt::format(
-      "[{}/{}] {}: {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, nodal {:.3g}) "
-      "nodal area excess {:+.3f}%{}\n",
-      m.index + 1, m.count, m.name, r.steps, r.wall_seconds, r.final.area, r.final.mean_curvature,
-      quality.relaxed.std, quality.nodal.std,
-      quality.has_nodal ? 100.0 * (quality.nodal_area / r.final.area - 1.0) : 0.0,
-      r.converged ? "" : " NOT converged");
+      "[{}/{}] {}{}: {} steps, {} s: area {} H {} (local std {}, nodal {}) nodal area excess "
+      "{}{}\n",
+      index + 1, count, r.value("member", "?"), where, number("steps"), number("wall_seconds"),
+      number("area"), number("mean_curvature"), number("mean_curvature_std"),
+      number("nodal_mean_curvature_std"),
+      member_line_number("nodal_area_excess", std::isfinite(excess) ? excess : 0.0),
+      r.value("converged", false) ? "" : " NOT converged");
 }
 
 // What the sweep writes besides the members' fields, kept in sweep.json (and each member's
@@ -330,24 +341,6 @@ void print_plan(const SweepParams& sp, const GroupPlan& plan, const Decompositio
   }
 }
 
-double number_in(const nlohmann::json& report, const char* key) {
-  const auto it = report.find(key);
-  return it != report.end() && it->is_number() ? it->get<double>() : NAN;
-}
-
-// print_member's line for a member another group ran, from its report.json.
-void print_row(const nlohmann::json& r, int index, int count, int group) {
-  const double area = number_in(r, "area"), nodal_area = number_in(r, "nodal_area");
-  std::cerr << fmt::format(
-      "[{}/{}] {} (group {}): {} steps, {:.1f} s: area {:.5f} H {:+.4f} (local std {:.3g}, nodal "
-      "{:.3g}) nodal area excess {:+.3f}%{}\n",
-      index + 1, count, r.value("member", "?"), group, number_in(r, "steps"),
-      number_in(r, "wall_seconds"), area, number_in(r, "mean_curvature"),
-      number_in(r, "mean_curvature_std"), number_in(r, "nodal_mean_curvature_std"),
-      std::isfinite(nodal_area) ? 100.0 * (nodal_area / area - 1.0) : 0.0,
-      r.value("converged", false) ? "" : " NOT converged");
-}
-
 std::vector<nlohmann::json> reports_of(const std::vector<GroupRows::Row>& rows) {
   std::vector<nlohmann::json> reports;
   for (const GroupRows::Row& row : rows) reports.push_back(row.report);
@@ -445,7 +438,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       std::cerr << fmt::format("[{}/{}] {} alpha {} from {}\n", m.index + 1, m.count, m.surface,
                                m.alpha, m.started_from);
   };
-  auto done = [&](const SweepMember& m, RunResult& r) {
+  auto done = [&](const SweepMember& m, const RunResult r, FinalFieldCache cache) {
     // As `cmcsurf run` does: every process of the group computes the outputs on its blocks
     // (the group's rank 0 gets the pictures) and writes its piece of field.pvti; the group's
     // rank 0 writes the rest. No process holds the whole grid (docs/scaling.md, "Output").
@@ -463,7 +456,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     double field_seconds = 0.0;
     try {
       // Quality, preview.png and report.html's meshes (docs/report.md).
-      outputs = run_outputs(r.phi, m.params, r, !cmd.pages.no_preview, !cmd.pages.no_report);
+      outputs = run_outputs(r.phi, m.params, r, std::move(cache), !cmd.pages.no_preview,
+                            !cmd.pages.no_report);
       if (outputs->preview) extra["preview_seconds"] = outputs->preview->seconds;
       if (outputs->page) extra["page_seconds"] = outputs->page_seconds;
       if (cmd.properties.stage.enabled) {  // the member's solid (docs/properties.md)
@@ -486,16 +480,17 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
         std::optional<RunPreview>& preview = outputs->preview;
         GroupRows::Row row;
         row.index = m.index;
+        const RunFieldSource field = gd->distributed()
+                                         ? RunFieldSource(FieldPiecesWritten{field_seconds})
+                                         : RunFieldSource(std::cref(r.phi));
         row.report = write_run_folder(
-            dir / m.name, m.params, r, gd->distributed() ? Field() : r.phi, quality, threads,
-            cmd.float32, extra,
+            dir / m.name, m.params, r, field, quality, threads, cmd.float32, extra,
             [&](const nlohmann::json& report_to_be) {
               if (preview) write_png(dir / m.name / "preview.png", preview->image);
               if (!youngs.image.rgb.empty())
                 write_png(dir / m.name / kYoungsPictureName, youngs.image);
               if (outputs->page) write_run_page(dir / m.name, &*outputs->page, &report_to_be);
-            },
-            field_seconds);
+            });
         remove_checkpoint(dir / m.name / kCheckpointFileName);  // the member is complete
         if (preview)
           row.tile = GalleryMember{m.surface, m.name, m.alpha, r.final.mean_curvature,
@@ -503,7 +498,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
         mine.rows.push_back(std::move(row));
         write_partial_csv();
         progress.finish();
-        if (!cmd.quiet && world_root) print_member(m, r, quality);
+        if (!cmd.quiet && world_root)
+          print_member_line(mine.rows.back().report, m.index, m.count, "");
       } catch (const std::exception& e) {
         failure = e.what();
       }
@@ -574,7 +570,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
       if (!cmd.quiet && world_root)
         std::cerr << fmt::format("[{}/{}] {}: resuming before step {} ({} on {}^3)\n",
                                  m.index + 1, m.count, m.name, start.checkpoint->step + 1,
-                                 start.checkpoint->cursor.stage, start.checkpoint->cursor.grid);
+                                 run_stage_name(start.checkpoint->cursor.stage),
+                                 start.checkpoint->cursor.grid);
       return start;
     }
     if (decision == kSkip) {
@@ -669,7 +666,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
     std::vector<GalleryMember> gallery;
     for (auto& [g, row] : rows) {
       if (g != group.index && !cmd.quiet)
-        print_row(row.report, row.index, int(members), g);
+        print_member_line(row.report, row.index, int(members), fmt::format(" (group {})", g));
       reports.push_back(row.report);
       if (row.tile) gallery.push_back(std::move(*row.tile));
     }

@@ -20,5 +20,6 @@ CommandFn add_scaffold_command(CLI::App& root);  // apps/cmd_scaffold.cpp
 CommandFn add_properties_command(CLI::App& root);  // apps/cmd_properties.cpp
 CommandFn add_scattering_command(CLI::App& root);  // apps/cmd_scattering.cpp
 CommandFn add_volume_mesh_command(CLI::App& root);  // apps/cmd_volume_mesh.cpp
+CommandFn add_schema_command(CLI::App& root);  // apps/cmd_schema.cpp (hidden)
 
 }  // namespace cmcsurf::cli

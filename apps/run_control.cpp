@@ -179,7 +179,7 @@ int finish_interrupted(const fs::path& dir, const RunParams& params, RunInterrup
     report["stop_reason"] = "interrupted";
     report["checkpoint"] = {{"file", failed.empty() ? kCheckpointFileName : ""},
                             {"step", c.step},
-                            {"stage", c.cursor.stage},
+                            {"stage", run_stage_name(c.cursor.stage)},
                             {"grid", c.cursor.grid},
                             {"signal", signal_name(SignalGuard::received())}};
     report["checkpoints_written"] = sink.written();
@@ -198,8 +198,8 @@ int finish_interrupted(const fs::path& dir, const RunParams& params, RunInterrup
     std::cerr << fmt::format(
         "\ninterrupted by {} before step {} ({} on {}^3, {:.1f} s of work kept in {})\n"
         "resume with: {}\n",
-        signal_name(SignalGuard::received()), c.step + 1, c.cursor.stage, c.cursor.grid,
-        c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
+        signal_name(SignalGuard::received()), c.step + 1, run_stage_name(c.cursor.stage),
+        c.cursor.grid, c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
   return SignalGuard::exit_code();
 }
 

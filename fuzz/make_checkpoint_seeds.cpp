@@ -56,7 +56,9 @@ cmcsurf::Checkpoint state(Kind kind) {
   const int steps = kind == Kind::kCoarsePrerelax ? 1 : 2;
   cmcsurf::Checkpoint c;
   c.cursor.grid = n;
-  c.cursor.stage = kind == Kind::kRelax ? "relax" : kind == Kind::kVolume ? "volume" : "prerelax";
+  c.cursor.stage = kind == Kind::kRelax    ? cmcsurf::RunStage::kRelax
+                   : kind == Kind::kVolume ? cmcsurf::RunStage::kVolume
+                                           : cmcsurf::RunStage::kPrerelax;
   c.cursor.stage_steps = steps;
   c.cursor.dt = 0.5 / n;
   c.cursor.area = 2.3;

@@ -14,9 +14,7 @@ m 2^k (m in {1, 3, 5, 7}, N >= 8, the multigrid's grids) or when they hold NaN o
 
 Solves release the GIL (other Python threads keep running), Ctrl-C stops a solve within one
 time step with ``KeyboardInterrupt``, and ``progress`` is called with a dict per time step
-(``step, stage, time, dt, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed,
-volume_fraction``;
-in a sweep also ``member``, e.g. ``"G_0.30"``).
+(history.csv's columns, ``HISTORY_COLUMNS``; in a sweep also ``member``, e.g. ``"G_0.30"``).
 """
 
 from __future__ import annotations
@@ -37,10 +35,15 @@ __all__ = [
     "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
     "relax", "run", "scattering", "surfaces", "sweep", "__version__",
 ]
-__all__ += ["volume_mesh"]
+__all__ += ["volume_mesh", "HISTORY_COLUMNS"]
 __all__ += ["morphometry", "scaffold"]
 
 __version__: str = _cmcsurf.version()
+# history.csv's columns in its order (Result.history's keys, a progress dict's), from the
+# library's table (schema/report_schema.h).
+HISTORY_COLUMNS: List[str] = [c["name"] for c in _cmcsurf.report_schema()["history_columns"]]
+__doc__ = (__doc__ or "").replace("``HISTORY_COLUMNS``",
+                                  "``" + ", ".join(HISTORY_COLUMNS) + "``")
 
 Progress = Optional[Callable[[Dict[str, Any]], Any]]
 

@@ -21,8 +21,8 @@ class Result:
         and the writes run in save(), whose report.json has them)."""
     @property
     def history(self) -> Dict[str, np.ndarray]:
-        """history.csv's columns: step, stage, time, area, d_area, d_phi, energy, mass,
-        vcycles, residual, elapsed, dt (int64 / float64 / str arrays), one row per time step."""
+        """history.csv's columns in its order (int64 / float64 / str arrays), one row per time
+        step: the names, types and help are report_schema()["history_columns"]'s."""
     def save(self, dir: Union[str, PathLike[str]], float32: bool = False, preview: bool = True,
              report: bool = True, force: bool = False) -> Path:
         """Writes the run folder as `cmcsurf run --out dir` does: history.csv,
@@ -56,6 +56,10 @@ def default_options() -> Dict[str, Any]: ...
 # (surface, initial, grid, solver), default, type (float, int, str, bool), unit, help,
 # accepted, fast (whether --fast chooses it; the keyword's default is then None).
 def run_options() -> List[Dict[str, Any]]: ...
+# The report schema (schema/report_schema.cpp): report_keys (key, label, unit, help, format,
+# page, error_key, timing, ...), history_columns (name, type, format, unit, help, timing),
+# stages, sweep_leading_columns, families_table (key, header, format).
+def report_schema() -> Dict[str, Any]: ...
 def run(options: Dict[str, Any], threads: int, progress: Progress) -> Result: ...
 def relax(phi: Any, volume_fraction: Optional[float], algorithm: str, options: Dict[str, Any],
           threads: int, progress: Progress) -> Result: ...

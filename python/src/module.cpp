@@ -49,6 +49,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
 #include "pipeline/run_schema.h"
+#include "schema/report_schema.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/run_page.h"
 #include "pipeline/sweep.h"
@@ -408,22 +409,13 @@ class ThreadScope {
 // Interaction::pending while the run unwinds.
 struct PythonPending : std::exception {};
 
-// history.csv's columns of one step, and in a sweep the member it belongs to.
+// history.csv's columns of one step (in its order, schema/report_schema.h), and in a sweep the
+// member it belongs to.
 py::dict step_dict(const StepRecord& r, const std::string& member) {
   py::dict d;
-  d["step"] = r.step;
-  d["stage"] = r.stage;
-  d["time"] = r.time;
-  d["dt"] = r.dt;
-  d["area"] = r.area;
-  d["d_area"] = r.d_area;
-  d["d_phi"] = r.d_phi;
-  d["energy"] = r.energy;
-  d["mass"] = r.mass;
-  d["vcycles"] = r.vcycles;
-  d["residual"] = r.residual;
-  d["elapsed"] = r.elapsed;
-  d["volume_fraction"] = r.volume_fraction;
+  for (const HistoryColumnInfo& c : history_column_table())
+    d[py::str(std::string(c.name))] =
+        std::visit([](const auto& v) { return py::cast(v); }, history_value(r, c.id));
   if (!member.empty()) d["member"] = member;
   return d;
 }
@@ -525,18 +517,20 @@ struct Result {
   nlohmann::json report;
   py::object phi_cache, report_cache, history_cache;
 
-  Result(const RunParams& p, RunResult r, int t, nlohmann::json x)
-      : params(p), result(std::move(r)), threads(t), extra(std::move(x)) {}
+  // The final measures' psi and samples that the run returned beside its result, until finish().
+  std::optional<FinalFieldCache> cache;
+
+  Result(const RunParams& p, RunResult r, int t, nlohmann::json x, FinalFieldCache c)
+      : params(p), result(std::move(r)), threads(t), extra(std::move(x)), cache(std::move(c)) {}
 
   // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
   // the solve.
   void finish() {
     // The final measures' psi and samples when the run kept them; then they are let go.
-    const bool kept = result.final_psi.n() == result.phi.n();
-    quality = run_quality(kept ? result.final_psi : profile_inverse(result.phi), params, result,
-                          kept ? &result.final_samples : nullptr);
-    result.final_psi = Field();
-    result.final_samples = {};
+    const bool kept = cache && cache->psi.n() == result.phi.n();
+    const Field psi = kept ? std::move(cache->psi) : profile_inverse(result.phi);
+    quality = run_quality(psi, params, result, kept ? &cache->samples : nullptr);
+    cache.reset();
     report = run_folder_report(params, result, quality, threads, extra);
   }
 
@@ -552,39 +546,26 @@ struct Result {
     if (history_cache) return history_cache;
     const auto& h = result.history;
     const std::size_t n = h.size();
-    py::array_t<long long> step(n), vcycles(n);
-    py::array_t<double> time(n), dt(n), area(n), d_area(n), d_phi(n), energy(n), mass(n),
-        residual(n), elapsed(n), volume_fraction(n);
-    py::list stage;
-    for (std::size_t s = 0; s < n; ++s) {
-      step.mutable_at(s) = h[s].step;
-      vcycles.mutable_at(s) = h[s].vcycles;
-      time.mutable_at(s) = h[s].time;
-      dt.mutable_at(s) = h[s].dt;
-      area.mutable_at(s) = h[s].area;
-      d_area.mutable_at(s) = h[s].d_area;
-      d_phi.mutable_at(s) = h[s].d_phi;
-      energy.mutable_at(s) = h[s].energy;
-      mass.mutable_at(s) = h[s].mass;
-      residual.mutable_at(s) = h[s].residual;
-      elapsed.mutable_at(s) = h[s].elapsed;
-      volume_fraction.mutable_at(s) = h[s].volume_fraction;
-      stage.append(h[s].stage);
-    }
     py::dict d;
-    d["step"] = step;
-    d["stage"] = py::module_::import("numpy").attr("array")(stage, py::arg("dtype") = "str");
-    d["time"] = time;
-    d["area"] = area;
-    d["d_area"] = d_area;
-    d["d_phi"] = d_phi;
-    d["energy"] = energy;
-    d["mass"] = mass;
-    d["vcycles"] = vcycles;
-    d["residual"] = residual;
-    d["elapsed"] = elapsed;
-    d["dt"] = dt;
-    d["volume_fraction"] = volume_fraction;
+    for (const HistoryColumnInfo& c : history_column_table()) {
+      const py::str name(std::string(c.name));
+      if (c.type == HistoryType::kText) {
+        py::list text;
+        for (std::size_t s = 0; s < n; ++s)
+          text.append(std::get<std::string>(history_value(h[s], c.id)));
+        d[name] = py::module_::import("numpy").attr("array")(text, py::arg("dtype") = "str");
+      } else if (c.type == HistoryType::kInt) {
+        py::array_t<long long> column(n);
+        for (std::size_t s = 0; s < n; ++s)
+          column.mutable_at(s) = std::get<long long>(history_value(h[s], c.id));
+        d[name] = column;
+      } else {
+        py::array_t<double> column(n);
+        for (std::size_t s = 0; s < n; ++s)
+          column.mutable_at(s) = std::get<double>(history_value(h[s], c.id));
+        d[name] = column;
+      }
+    }
     history_cache = d;
     return d;
   }
@@ -625,7 +606,7 @@ struct Result {
         x["page_seconds"] =
             seconds_since(t0);
       }
-      write_run_folder(dir, params, result, result.phi, quality, threads, float32, x,
+      write_run_folder(dir, params, result, std::cref(result.phi), quality, threads, float32, x,
                        [&](const nlohmann::json& report_to_be) {
                          if (picture) write_png(dir / "preview.png", picture->image);
                          if (page) write_run_page(dir, &*page_surfaces, &report_to_be);
@@ -689,7 +670,10 @@ std::shared_ptr<Result> run(const py::dict& options, py::handle threads, py::obj
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   auto out = ia.solve([&](const RunContext& c) {
-    auto r = std::make_shared<Result>(p, run_cmc(p, c), scope.count(), single_run_extra());
+    FinalFieldCache cache;
+    RunResult result = run_cmc(p, c, &cache);
+    auto r = std::make_shared<Result>(p, std::move(result), scope.count(), single_run_extra(),
+                                      std::move(cache));
     r->finish();
     return r;
   });
@@ -737,8 +721,9 @@ std::shared_ptr<Result> relax(py::handle phi, py::handle volume_fraction_arg,
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
   return ia.solve([&](const RunContext& c) {
-    RunResult r = cmc ? run_cmc_from_field(start, p, c) : relax_field(start, p, c);
-    auto out = std::make_shared<Result>(p, std::move(r), scope.count(), extra);
+    FinalFieldCache cache;
+    RunResult r = cmc ? run_cmc_from_field(start, p, c, &cache) : relax_field(start, p, c, &cache);
+    auto out = std::make_shared<Result>(p, std::move(r), scope.count(), extra, std::move(cache));
     out->finish();
     return out;
   });
@@ -816,12 +801,13 @@ py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle co
   ia.solve([&](const RunContext& c) {
     run_sweep(
         sp, [&](const SweepMember& m) { ia.set_member(m.name); },
-        [&](const SweepMember& m, RunResult& r) {
+        [&](const SweepMember& m, RunResult r, FinalFieldCache cache) {
           auto res = std::make_shared<Result>(
               m.params, std::move(r), scope.count(),
               nlohmann::json{{"volume_fraction_target", m.alpha},
                              {"member", m.name},
-                             {"started_from", m.started_from}});
+                             {"started_from", m.started_from}},
+              std::move(cache));
           res->finish();
           reports.push_back(res->report);
           results.push_back(res);
@@ -1189,11 +1175,26 @@ meshes and the writes run in save(), whose report.json has them.
 A sweep member's report adds member, started_from and volume_fraction_target, as the
 member's report.json in a `cmcsurf sweep` folder.)";
 
-constexpr const char* kResultHistoryDoc =
-    R"(history.csv as a dict of NumPy columns, one row per time step.
+// Result.history's doc: the columns of history.csv's table (schema/report_schema.h).
+const char* result_history_doc() {
+  static const std::string doc = [] {
+    std::string out = "history.csv as a dict of NumPy columns, one row per time step:\n";
+    for (const HistoryColumnInfo& c : history_column_table())
+      out += fmt::format("\n{} ({}): {}", c.name,
+                         c.type == HistoryType::kInt    ? "int64"
+                         : c.type == HistoryType::kText ? "str"
+                                                        : "float64",
+                         c.help);
+    return out;
+  }();
+  return doc.c_str();
+}
 
-step, vcycles (int64); stage (str); time, dt, area, d_area, d_phi, energy, mass, residual,
-elapsed, volume_fraction (float64).)";
+// The report schema (schema/report_schema.h) as Python data: report keys, history columns,
+// stages, sweep.csv's leading columns, the families table.
+py::object report_schema() {
+  return to_python(nlohmann::json::parse(report_schema_json()));
+}
 
 constexpr const char* kResultSaveDoc =
     R"(save(dir, float32=False, preview=True, report=True, force=False) -> pathlib.Path
@@ -1253,6 +1254,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("surfaces", &surfaces);
   m.def("default_options", [] { return to_python(params_json(RunParams{})); });
   m.def("run_options", &run_option_schema);
+  m.def("report_schema", &report_schema);
   m.def("run", &run, py::arg("options"), py::arg("threads"), py::arg("progress"));
   m.def("relax", &relax, py::arg("phi"), py::arg("volume_fraction"), py::arg("algorithm"),
         py::arg("options"), py::arg("threads"), py::arg("progress"));
@@ -1277,7 +1279,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
   py::class_<Result, std::shared_ptr<Result>>(m, "Result", kResultDoc)
       .def_property_readonly("phi", &Result::phi, kResultPhiDoc)
       .def_property_readonly("report", &Result::report_dict, kResultReportDoc)
-      .def_property_readonly("history", &Result::history, kResultHistoryDoc)
+      .def_property_readonly("history", &Result::history, result_history_doc())
       .def("save", &Result::save, py::arg("dir"), py::arg("float32") = false,
            py::arg("preview") = true, py::arg("report") = true, py::arg("force") = false,
            kResultSaveDoc);

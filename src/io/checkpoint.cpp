@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -31,8 +32,25 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Measures, area, area_error, mean_curvature,
                                    total_mean_curvature_diffuse, mean_curvature_mu,
                                    volume_fraction, volume_fraction_cells, mass, energy, sharp,
                                    euler_characteristic)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StepRecord, step, stage, time, dt, area, d_area, d_phi, energy,
-                                   mass, volume_fraction, vcycles, residual, elapsed)
+// A step of the history: history.csv's columns by name (schema/report_schema.h).
+void to_json(nlohmann::json& j, const StepRecord& r) {
+  j = nlohmann::json::object();
+  for (const HistoryColumnInfo& c : history_column_table())
+    std::visit([&](const auto& v) { j[std::string(c.name)] = v; }, history_value(r, c.id));
+}
+void from_json(const nlohmann::json& j, StepRecord& r) {
+  for (const HistoryColumnInfo& c : history_column_table())
+    set_history_value(r, c.id, j.at(std::string(c.name)));
+}
+// The cursor's stage by its name; another name is refused as check_state always did.
+void to_json(nlohmann::json& j, RunStage s) { j = std::string(run_stage_name(s)); }
+void from_json(const nlohmann::json& j, RunStage& s) {
+  const std::string name = j.get<std::string>();
+  const std::optional<RunStage> stage = parse_run_stage(name);
+  if (!stage)
+    throw std::runtime_error(fmt::format("unknown stage '{}' (prerelax, relax or volume)", name));
+  s = *stage;
+}
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BisectionResult, beta, v_ave, iterations)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VolumeIterate, mass, volume_fraction, steps, relaxed)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RunCursor, grid, stage, stage_steps, dt, area, volume,
@@ -225,8 +243,6 @@ void check_state(const CheckpointFile& f, int max_n) {
   const Checkpoint& c = f.checkpoint;
   const RunCursor& k = c.cursor;
   auto fail = [](const std::string& what) { throw std::runtime_error(what); };
-  if (k.stage != "prerelax" && k.stage != "relax" && k.stage != "volume")
-    fail(fmt::format("unknown stage '{}' (prerelax, relax or volume)", k.stage));
   if (k.grid < 2 || k.grid > max_n)
     fail(fmt::format("grid {} outside [2, {}]", k.grid, max_n));
   // The parameters pass the command line's checks; the stage's grid is N / 2^k of the run's.

@@ -9,6 +9,7 @@
 
 #include "render/assets.h"
 #include "render/colormap.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf {
 
@@ -83,37 +84,14 @@ nlohmann::json color_scale_json(const ColorScale& scale) {
 }
 
 const std::vector<NumberRow>& run_number_rows() {
-  static const std::vector<NumberRow> rows = {
-      {"surface", "surface", "", ""},
-      {"grid", "grid N", "{}", ""},
-      {"epsilon", "ε", "{:.4g}", ""},
-      {"volume_fraction_target", "target volume fraction α", "{:.6g}", ""},
-      {"volume_fraction", "volume fraction (sharp)", "{:.6f}", ""},
-      {"area", "area (sharp)", "{:.6f}", "area_error"},
-      {"mean_curvature", "mean curvature H (sharp)", "{:+.6f}", "mean_curvature_error"},
-      {"mean_curvature_mu", "H from μ", "{:+.6f}", ""},
-      {"mean_curvature_std", "local H std (relaxed)", "{:.4g}", ""},
-      {"nodal_mean_curvature", "nodal H", "{:+.6f}", ""},
-      {"nodal_mean_curvature_std", "local H std (nodal)", "{:.4g}", ""},
-      {"nodal_std_ratio", "nodal / relaxed H std", "{:.3g}", ""},
-      {"nodal_area_excess", "nodal area excess", "{:+.4%}", ""},
-      {"area_diffuse", "area (diffuse, App. B)", "{:.6f}", ""},
-      {"mean_curvature_diffuse", "H (diffuse, App. B)", "{:+.6f}", ""},
-      {"steps", "time steps", "{}", ""},
-      {"vcycles", "V-cycles", "{}", ""},
-      {"vcycles_per_step", "V-cycles per step", "{:.3g}", ""},
-      {"converged", "converged", "", ""},
-      {"stop_reason", "stop reason", "", ""},
-      {"wall_seconds", "solve (s)", "{:.3g}", ""},
-      {"measure_seconds", "measures (s)", "{:.3g}", ""},
-      {"quality_seconds", "quality stage (s)", "{:.3g}", ""},
-      {"properties_seconds", "properties stage (s)", "{:.3g}", ""},
-      {"youngs_picture_seconds", "Young's modulus picture (s)", "{:.3g}", ""},
-      {"preview_seconds", "preview stage (s)", "{:.3g}", ""},
-      {"page_seconds", "report page's meshes (s)", "{:.3g}", ""},
-      {"write_seconds", "writing the files (s)", "{:.3g}", ""},
-      {"version", "cmcsurf version", "", ""},
-  };
+  static const std::vector<NumberRow> rows = [] {
+    std::vector<NumberRow> out;
+    for (const ReportKey& k : report_key_table())
+      if (k.page == PageTable::kKeyNumbers)
+        out.push_back({std::string(k.key), std::string(k.label), std::string(k.format),
+                       std::string(k.error_key)});
+    return out;
+  }();
   return rows;
 }
 
@@ -252,10 +230,7 @@ std::string properties_table_html(const nlohmann::json& properties) {
 }
 
 std::string format_number(const std::string& format, double x) {
-  // "{:+.4%}": a percentage (fmt has no % type).
-  if (format.size() > 2 && format.compare(format.size() - 2, 2, "%}") == 0)
-    return fmt::format(fmt::runtime(format.substr(0, format.size() - 2) + "f}"), 100.0 * x) + "%";
-  return fmt::format(fmt::runtime(format), x);
+  return format_report_number(format, x);
 }
 
 std::string numbers_table_html(const nlohmann::json& report, const std::vector<NumberRow>& rows,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/wall_clock.h"
+#include "grid/check.h"
 #include "io/atomic_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
@@ -73,31 +74,33 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
   return report;
 }
 
-double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
-                              const CmcQuality& quality, int threads, bool float32,
-                              const nlohmann::json& extra) {
+double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p,
+                              const RunResult& r, const CmcQuality& quality, int threads,
+                              bool float32, const nlohmann::json& extra) {
   const auto t0 = WallClock::now();
-  r.phi.exchange_halo();
+  CMCSURF_DCHECK(halo_is_current(r.phi));
   write_run_field(dir, {{"phi", &r.phi}}, float32,
                   run_field_metadata(p, r, run_folder_report(p, r, quality, threads, extra)));
   return seconds_since(t0);
 }
 
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const Field& phi, const CmcQuality& quality,
-                                int threads, bool float32, const nlohmann::json& extra,
-                                const std::function<void(const nlohmann::json&)>& extra_files,
-                                double field_seconds) {
+                                const RunResult& r, const RunFieldSource& field,
+                                const CmcQuality& quality, int threads, bool float32,
+                                const nlohmann::json& extra,
+                                const std::function<void(const nlohmann::json&)>& extra_files) {
   nlohmann::json report = run_folder_report(p, r, quality, threads, extra);
   const auto t0 = std::chrono::steady_clock::now();
-  const bool field_written = phi.n() == 0;
+  const auto* pieces = std::get_if<FieldPiecesWritten>(&field);
+  const bool field_written = pieces != nullptr;
+  const double field_seconds = pieces ? pieces->seconds : 0.0;
   ensure_directory(dir);
   clear_run_outputs(dir, field_written);
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
   write_curvature_distribution_csv(dir / "curvature_distribution.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
-  if (!field_written)
-    write_run_field(dir, {{"phi", &phi}}, float32, run_field_metadata(p, r, report));
+  if (const auto* whole = std::get_if<std::reference_wrapper<const Field>>(&field))
+    write_run_field(dir, {{"phi", &whole->get()}}, float32, run_field_metadata(p, r, report));
   if (extra_files) extra_files(report);
   // The files before report.json; report.json itself and a page written after it are not in it.
   report["write_seconds"] =

@@ -7,6 +7,8 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <variant>
+
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
@@ -36,24 +38,31 @@ nlohmann::json run_folder_report(const RunParams& p, const RunResult& r,
                                  const nlohmann::json& extra = {});
 
 // A decomposed run's field.pvti with one piece per process (io/pvti.h), written by every
-// process (collective) before the group's rank 0 writes the rest with write_run_folder (an
-// empty Field and these seconds). r.phi's halo is exchanged: the pieces share their faces.
-double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p, RunResult& r,
-                              const CmcQuality& quality, int threads, bool float32,
-                              const nlohmann::json& extra);
+// process (collective) before the group's rank 0 writes the rest with write_run_folder
+// (FieldPiecesWritten with these seconds). The pieces share their faces: r.phi arrives with
+// valid ghosts, as every entry point of pipeline/cmc.h returns it (the final measures exchange
+// them last). Returns the wall time.
+double write_run_field_pieces(const std::filesystem::path& dir, const RunParams& p,
+                              const RunResult& r, const CmcQuality& quality, int threads,
+                              bool float32, const nlohmann::json& extra);
+
+// The field file of a run folder: written by write_run_folder from the whole field, or written
+// before by every process (write_run_field_pieces) in `seconds`, which write_seconds includes.
+struct FieldPiecesWritten {
+  double seconds = 0.0;
+};
+using RunFieldSource = std::variant<std::reference_wrapper<const Field>, FieldPiecesWritten>;
 
 // A run's folder: history.csv, curvature_histogram.csv, field.vti, then whatever `extra_files`
 // writes (the surface mesh, preview.png, report.html; it gets the report to be written), and
 // report.json (run_folder_report) last, since it marks a complete run: a failure before it
 // leaves no report.json. The folder must be the caller's (io/output_folder.h). An earlier run's
-// outputs in dir are removed first (clear_run_outputs). phi is the whole final field, or an empty
-// Field when the caller wrote the field file before (a decomposed run: every process writes its
-// piece of field.pvti, io/pvti.h, taking field_seconds, which write_seconds includes). Returns the
-// report.
+// outputs in dir are removed first (clear_run_outputs), the field file's too unless `field` says
+// the caller wrote it. Returns the report.
 nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParams& p,
-                                const RunResult& r, const Field& phi, const CmcQuality& quality,
-                                int threads, bool float32, const nlohmann::json& extra = {},
-                                const std::function<void(const nlohmann::json&)>& extra_files = {},
-                                double field_seconds = 0.0);
+                                const RunResult& r, const RunFieldSource& field,
+                                const CmcQuality& quality, int threads, bool float32,
+                                const nlohmann::json& extra = {},
+                                const std::function<void(const nlohmann::json&)>& extra_files = {});
 
 }  // namespace cmcsurf

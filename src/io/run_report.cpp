@@ -228,84 +228,97 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   // Under mpirun: every rank's OpenMP threads (parallel/threads.h), rank 0's are `threads`.
   if (threads_per_rank().size() > 1) j["threads_per_rank"] = threads_per_rank();
   j["parameters"] = params_json(p);
-  j["conventions"] = {
-      {"phase_1", "phi > 1/2"},
-      {"area",
-       "area of the phi = 1/2 surface: the zero set of the piecewise-linear interpolant "
-       "of psi = atanh(2 phi - 1), second order in h (docs/method.md, sharp measures)"},
-      {"mean_curvature",
-       "mean curvature of the phi = 1/2 surface, area-weighted average of the local "
-       "H = -div(grad psi/|grad psi|)/2 on it; positive when phase 1 is convex (1/r for a ball)"},
-      {"area_error", "Richardson estimate |A_h - A_2h|/3 with A_2h from psi averaged to N/2"},
-      {"euler_characteristic",
-       "of phase 1 (phi > 1/2) as the union of its closed voxels in the periodic cell: tells "
-       "which member of a family a run found near a topology change (docs/families.md)"},
-      {"euler_characteristic_start",
-       "the same of the nodal start phi^0 (step 1's field): the family's topology; "
-       "topology_changed: the run ended on a member of another one"},
-      {"genus",
-       "1 - euler_characteristic: the surface's genus per unit cell when both phases are "
-       "connected (P 3, G 5, D 9; a ball 0)"},
-      {"euler_characteristic_phase1", "= euler_characteristic (phase 1, phi > 1/2)"},
-      {"euler_characteristic_phase2", "of phase 2 (phi < 1/2), as closed voxels the same way"},
-      {"euler_characteristic_surface",
-       "of the phi = 1/2 surface per computed cell: phase1 + phase2 (= 2 chi(phase 1) for a "
-       "resolved surface; P -4, D -16, G -8 at 1/2)"},
-      {"components_phase1", "connected components of phase 1 on the 3-torus (26-connected "
-                            "voxels); null on a decomposed grid above 128^3"},
-      {"surface_components", "(phase 1, phase 2) component pairs that touch: the surface's "
-                             "connected pieces (a pair meeting on two sheets counts once)"},
-      {"genus_surface", "genus of each connected piece of the surface, 1 - chi_surface / "
-                        "(2 surface_components): their mean when the pieces differ"},
-      {"homogeneity_index", "Gamma = A^(3/2) / (2 pi |chi_surface|)^(1/2), area A per cell of "
-                            "volume 1 (Hyde 1989; any cell of the lattice gives the same)"},
-      {"gaussian_curvature_integral", "integral of K dA over the sharp surface, K from "
-                                      "grad psi and its Hessian like H"},
-      {"gauss_bonnet_error", "gaussian_curvature_integral / (2 pi chi_surface) - 1"},
-      {"mean_gaussian_curvature", "gaussian_curvature_integral / area: <K> a^2"},
-      {"willmore_energy", "integral of H^2 dA over the sharp surface"},
-      {"interfaces",
-       "one entry per component of the phase with more components (phase 1 when both have "
-       "one): its boundary's area, mean_curvature, mean_curvature_std, "
-       "gaussian_curvature_integral and euler_characteristic (2 chi of the component) and the "
-       "component's enclosed_volume; the surface's connected pieces when each such component "
-       "touches one component of the other phase (docs/science.md, double structures)"},
-      {"component_volume_targets",
-       "--constrain components: the volume each component of phase 1 holds (its seed's, "
-       "scaled to sum to alpha); component_volumes: the final sharp volumes"},
-      {"warnings", "what the command line printed as warnings: the result's topology differs "
-                   "from its seed's, or the seed's components share one volume constraint"},
-      {"crystallographic_cell",
-       "the space group's cubic cell the literature states numbers in (P Im-3m, D Pn-3m with "
-       "a/2: 8 per computed cell, G Ia-3d); lattice_parameter over the computed a; area per "
-       "cell in its own units, chi per cell, mean_curvature = H a_c, mean_gaussian_curvature = "
-       "<K> a_c^2 (docs/science.md)"},
-      {"area_diffuse", "Appendix B: 6 sqrt(2) eps sum |grad phi|^2 h^3 over the diffuse layer"},
-      {"mean_curvature_diffuse",
-       "Appendix B estimator, |grad phi|^2-weighted over the diffuse layer"},
-      {"mean_curvature_mu",
-       "mu/2 = 3 sqrt(2) nu / eps with nu = W'(phi) - eps^2 Lap phi, "
-       "|grad phi|^2-weighted (Gibbs-Thomson; the paper's mu/3 is 2/3 of it, see docs/method.md)"},
-      {"mean_curvature_mu_gap", "mean_curvature_mu - mean_curvature"},
-      {"volume_fraction",
-       "volume fraction of phi > 1/2: the 1/2 iso-surface of the piecewise-linear interpolant of "
-       "the cell-centre values with its O(h^2) curvature bias removed (docs/volume.md)"},
-      {"volume_fraction_cells", "fraction of cells with phi > 1/2"},
-      {"volume_iterates",
-       "--constrain volume: (mass, volume_fraction) after step 6 and after "
-       "each mass correction and relaxation"},
-      {"mass", "mean of phi"}};
+  // What the keys mean: the report key table's help of the keys it marks (schema/).
+  nlohmann::json conventions = {{"phase_1", "phi > 1/2"}};
+  for (const ReportKey& k : report_key_table())
+    if (k.convention) conventions[std::string(k.key)] = std::string(k.help);
+  j["conventions"] = conventions;
   return j;
 }
 
+std::string stage_text(const StepRecord& r) {
+  std::string text(run_stage_name(r.stage));
+  for (int grid : r.coarse_grids) text += fmt::format("@{}", grid);
+  return text;
+}
+
+HistoryValue history_value(const StepRecord& r, HistoryColumn c) {
+  switch (c) {
+    case HistoryColumn::kStep: return static_cast<long long>(r.step);
+    case HistoryColumn::kStage: return stage_text(r);
+    case HistoryColumn::kTime: return r.time;
+    case HistoryColumn::kArea: return r.area;
+    case HistoryColumn::kDArea: return r.d_area;
+    case HistoryColumn::kDPhi: return r.d_phi;
+    case HistoryColumn::kEnergy: return r.energy;
+    case HistoryColumn::kMass: return r.mass;
+    case HistoryColumn::kVcycles: return static_cast<long long>(r.vcycles);
+    case HistoryColumn::kResidual: return r.residual;
+    case HistoryColumn::kElapsed: return r.elapsed;
+    case HistoryColumn::kDt: return r.dt;
+    case HistoryColumn::kVolumeFraction: return r.volume_fraction;
+  }
+  throw std::logic_error("history_value: a column without a case");
+}
+
+namespace {
+
+// "relax@16@32" -> relax, {16, 32}.
+void set_stage(StepRecord& r, const std::string& text) {
+  std::size_t at = text.find('@');
+  const auto stage = parse_run_stage(std::string_view(text).substr(0, at));
+  if (!stage) throw std::runtime_error(fmt::format("unknown stage '{}'", text));
+  r.stage = *stage;
+  r.coarse_grids.clear();
+  while (at != std::string::npos) {
+    const std::size_t next = text.find('@', at + 1);
+    const std::string grid = text.substr(at + 1, next == std::string::npos ? next : next - at - 1);
+    std::size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(grid, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != grid.size() || n < 2)
+      throw std::runtime_error(fmt::format("unknown stage '{}' (a grid after '@')", text));
+    r.coarse_grids.push_back(n);
+    at = next;
+  }
+}
+
+}  // namespace
+
+void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v) {
+  switch (c) {
+    case HistoryColumn::kStep: v.get_to(r.step); return;
+    case HistoryColumn::kStage: set_stage(r, v.get<std::string>()); return;
+    case HistoryColumn::kTime: v.get_to(r.time); return;
+    case HistoryColumn::kArea: v.get_to(r.area); return;
+    case HistoryColumn::kDArea: v.get_to(r.d_area); return;
+    case HistoryColumn::kDPhi: v.get_to(r.d_phi); return;
+    case HistoryColumn::kEnergy: v.get_to(r.energy); return;
+    case HistoryColumn::kMass: v.get_to(r.mass); return;
+    case HistoryColumn::kVcycles: v.get_to(r.vcycles); return;
+    case HistoryColumn::kResidual: v.get_to(r.residual); return;
+    case HistoryColumn::kElapsed: v.get_to(r.elapsed); return;
+    case HistoryColumn::kDt: v.get_to(r.dt); return;
+    case HistoryColumn::kVolumeFraction: v.get_to(r.volume_fraction); return;
+  }
+  throw std::logic_error("set_history_value: a column without a case");
+}
+
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
-  std::string out =
-      "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt,volume_fraction\n";
-  for (const StepRecord& r : history)
-    out += fmt::format(
-        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.6e},{:.6f},{:.17g},{:.17g}\n",
-        r.step, r.stage, r.time, r.area, r.d_area, r.d_phi, r.energy, r.mass, r.vcycles,
-        r.residual, r.elapsed, r.dt, r.volume_fraction);
+  const std::vector<HistoryColumnInfo>& columns = history_column_table();
+  std::string out = history_header() + "\n";
+  for (const StepRecord& r : history) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) out += ',';
+      std::visit([&](const auto& v) { out += fmt::format(fmt::runtime(columns[c].format), v); },
+                 history_value(r, columns[c].id));
+    }
+    out += '\n';
+  }
   write_file_atomic(path, out);
 }
 
@@ -367,18 +380,12 @@ CsvCell json_cell(const nlohmann::json& v) {
 }  // namespace
 
 std::string sweep_csv(const std::vector<nlohmann::json>& reports) {
-  static const std::vector<std::string> kFirst = {
-      "surface", "volume_fraction_target", "volume_fraction", "area", "area_error",
-      "mean_curvature", "mean_curvature_error", "mean_curvature_mu", "mean_curvature_std",
-      "area_diffuse", "mean_curvature_diffuse", "area_iso", "nodal_area", "nodal_area_iso",
-      "nodal_mean_curvature", "nodal_mean_curvature_std", "nodal_std_ratio",
-      "nodal_area_excess", "nodal_area_excess_iso"};
   std::vector<std::string> header;
   std::set<std::string> seen;
   auto add = [&](const std::string& key) {
     if (seen.insert(key).second) header.push_back(key);
   };
-  for (const std::string& key : kFirst) add(key);
+  for (std::string_view key : sweep_leading_columns()) add(std::string(key));
   for (const nlohmann::json& r : reports)
     for (auto it = r.begin(); it != r.end(); ++it)
       if (!it->is_object() && !it->is_array()) add(it.key());

@@ -8,12 +8,14 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <variant>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
 #include "pipeline/cmc.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf {
 
@@ -75,7 +77,18 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads);
 // Peak resident memory of this process so far (report.json's peak_memory_bytes).
 std::uint64_t peak_memory_bytes();
 
-// history.csv: step, stage, time, area, d_area, d_phi, energy, mass, vcycles, residual, elapsed.
+// A step's stage as history.csv, the checkpoint's history and Python write it: "relax", or
+// "relax@16@32" for a step of the coarse-to-fine continuation taken on grid 16 (of a run on 64).
+std::string stage_text(const StepRecord& r);
+// The value of one of history.csv's columns (schema/report_schema.h) of a step.
+using HistoryValue = std::variant<long long, std::string, double>;
+HistoryValue history_value(const StepRecord& r, HistoryColumn c);
+// The inverse, for a checkpoint's history: sets column c of r from its JSON value (the stage's
+// text as stage_text writes it). Throws std::runtime_error naming the column on a wrong type or
+// an unknown stage.
+void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v);
+
+// history.csv: one row per step, history_column_table()'s columns in their formats.
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history);
 
 // CMC quality keys merged into report.json (docs/families.md): mean_curvature_std, area_iso,
@@ -90,7 +103,7 @@ void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQ
 void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q);
 
 // sweep.csv: one row per report, a column per top-level scalar of the reports (strings, numbers,
-// booleans; null is an empty cell), the main quantities first.
+// booleans; null is an empty cell), sweep_leading_columns() first.
 std::string sweep_csv(const std::vector<nlohmann::json>& reports);
 
 }  // namespace cmcsurf

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <variant>
 
 namespace cmcsurf {
 namespace {
@@ -154,6 +155,40 @@ TEST(RunReport, IntegersOutsideTheirTypeAreRefusedNotWrapped) {
   EXPECT_NE(why("extrapolate", 1), "");
   EXPECT_EQ(why("seed", 18446744073709551615ull), "");
   EXPECT_EQ(why("dt_factor", 1), "");  // an integer is a number
+}
+
+TEST(RunReport, HistoryRowsAndStagesReadBackExactly) {
+  StepRecord r;
+  r.step = 17;
+  r.stage = RunStage::kPrerelax;
+  r.coarse_grids = {16, 32};  // taken on 16, carried through 32, of a run on 64
+  r.time = 0.1;
+  r.dt = 1.0 / 3.0;
+  r.area = 3.0836526295383719;
+  r.d_area = -2.4731220488183325e-05;
+  r.d_phi = 5.6e-05;
+  r.energy = 2.57;
+  r.mass = 0.47;
+  r.volume_fraction = 0.45;
+  r.vcycles = 3;
+  r.residual = 1.951626e-01;
+  r.elapsed = 0.25;
+  EXPECT_EQ(stage_text(r), "prerelax@16@32");
+  StepRecord back;
+  for (const HistoryColumnInfo& c : history_column_table()) {
+    nlohmann::json v;
+    std::visit([&](const auto& x) { v = x; }, history_value(r, c.id));
+    set_history_value(back, c.id, v);
+  }
+  for (const HistoryColumnInfo& c : history_column_table())
+    EXPECT_EQ(history_value(back, c.id), history_value(r, c.id)) << c.name;
+  EXPECT_EQ(back.coarse_grids, r.coarse_grids);
+  EXPECT_EQ(back.stage, RunStage::kPrerelax);
+  for (const char* bad : {"relay", "relax@", "relax@x", "relax@16@", "@16", "relax@1"})
+    EXPECT_THROW(set_history_value(back, HistoryColumn::kStage, bad), std::runtime_error) << bad;
+  set_history_value(back, HistoryColumn::kStage, "volume");
+  EXPECT_EQ(back.stage, RunStage::kVolume);
+  EXPECT_TRUE(back.coarse_grids.empty());
 }
 
 }  // namespace

@@ -187,9 +187,10 @@ std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntr
   const bool coarsest = at + 1 == grids.end();
   const bool prerelax_allowed = !direct && entry != RunEntry::kRelaxToVolume && coarsest;
   const bool volume_allowed = !direct && nodal && params.constrain == Constraint::kVolume;
-  if (k.stage == "prerelax" ? !prerelax_allowed
-                            : k.stage == "volume" ? !volume_allowed : k.stage != "relax")
-    return fmt::format("stage '{}' on grid {} is not one of this run's", k.stage, k.grid);
+  if (k.stage == RunStage::kPrerelax ? !prerelax_allowed
+                                     : k.stage == RunStage::kVolume && !volume_allowed)
+    return fmt::format("stage '{}' on grid {} is not one of this run's", run_stage_name(k.stage),
+                       k.grid);
   if (r.phi.n() != k.grid || (c.stepper.nu_valid && c.stepper.nu.n() != k.grid) ||
       (c.stepper.history_valid &&
        (c.stepper.prev_phi.n() != k.grid || c.stepper.prev_nu.n() != k.grid)))
@@ -219,19 +220,20 @@ std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntr
   const double h = 1.0 / k.grid, dt0 = params.dt_factor * h;
   const double dt_max = std::max(dt0, params.dt_max_factor * h);
   const double slack = 1e-9 * dt0;  // dt is doubled and halved between dt0 and dt_max
-  if (k.stage == "prerelax") {
+  if (k.stage == RunStage::kPrerelax) {
     if (k.stage_steps >= params.prerelax_steps)
       return fmt::format("pre-relaxation step {} of {}", k.stage_steps, params.prerelax_steps);
     if (std::abs(k.dt - dt0) > slack)
       return fmt::format("pre-relaxation time step {} is not dt_factor h = {}", k.dt, dt0);
   } else {
     if (k.stage_steps >= params.max_steps)
-      return fmt::format("{} step {} of at most {}", k.stage, k.stage_steps, params.max_steps);
+      return fmt::format("{} step {} of at most {}", run_stage_name(k.stage), k.stage_steps,
+                         params.max_steps);
     if (!(k.dt >= dt0 - slack && k.dt <= dt_max + slack))
       return fmt::format("time step {} outside [{}, {}] (dt_factor h, dt_max_factor h)", k.dt,
                          dt0, dt_max);
   }
-  if (k.stage == "volume") {
+  if (k.stage == RunStage::kVolume) {
     if (!r.volume_constrained || k.correction < 0 ||
         k.correction >= params.max_volume_corrections ||
         r.volume_iterates.size() != std::size_t(k.correction) + 1)
@@ -241,7 +243,8 @@ std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntr
       return fmt::format("secant slope {} outside [1/4, 4] or volume fraction {}", k.slope,
                          k.volume);
   } else if (r.volume_constrained || !r.volume_iterates.empty()) {
-    return fmt::format("volume iterates before the volume stage ('{}')", k.stage);
+    return fmt::format("volume iterates before the volume stage ('{}')",
+                       run_stage_name(k.stage));
   }
   return {};
 }
@@ -293,7 +296,7 @@ class Evolution {
     t0_ = WallClock::now() - std::chrono::duration_cast<WallClock::duration>(
                              std::chrono::duration<double>(c.elapsed));
     cursor_ = c.cursor;
-    const double eps = c.cursor.stage == "prerelax"
+    const double eps = c.cursor.stage == RunStage::kPrerelax
                            ? params_.prerelax_epsilon_factor * params_.epsilon
                            : params_.epsilon;
     stepper_.set_params({eps, c.cursor.dt, params_.smoother});
@@ -304,7 +307,7 @@ class Evolution {
 
   // Whether this evolution continues a checkpoint taken in `stage` whose loop has not yet
   // picked it up.
-  bool resuming(std::string_view stage) const { return resuming_ && cursor_.stage == stage; }
+  bool resuming(RunStage stage) const { return resuming_ && cursor_.stage == stage; }
   RunCursor& cursor() { return cursor_; }
 
   // Step 3: prerelax_steps steps at the wide epsilon.
@@ -312,7 +315,7 @@ class Evolution {
     const double wide = params_.prerelax_epsilon_factor * params_.epsilon;
     int first = 0;
     double a;
-    if (resuming("prerelax")) {
+    if (resuming(RunStage::kPrerelax)) {
       first = cursor_.stage_steps;
       a = cursor_.area;
       resuming_ = false;
@@ -321,14 +324,14 @@ class Evolution {
       a = area(result_.phi, wide);
     }
     for (int s = first; s < params_.prerelax_steps; ++s) {
-      mark("prerelax", s, params_.dt(), a, 0.0);
-      a = advance("prerelax", a).area;
+      mark(RunStage::kPrerelax, s, params_.dt(), a, 0.0);
+      a = advance(RunStage::kPrerelax, a).area;
     }
     result_.prerelax_steps = params_.prerelax_steps;
   }
 
   // One step at the stepper's epsilon and dt, recorded in the history.
-  StepRecord advance(const char* stage, double area_before) {
+  StepRecord advance(RunStage stage, double area_before) {
     Field& phi = result_.phi;
     const double eps = stepper_.params().epsilon;
     const double dt = stepper_.params().dt;
@@ -372,7 +375,7 @@ class Evolution {
   // relax at epsilon until the stop rule; returns the steps taken.
   // With volume_rate > 0 the stop rule also needs the sharp volume fraction to change by at
   // most volume_rate in the step (after a mass correction the area can settle before V does).
-  int relax(const char* stage = "relax", double volume_rate = 0.0) {
+  int relax(RunStage stage = RunStage::kRelax, double volume_rate = 0.0) {
     start_components();
     double a = 0.0, v = 0.0;
     if (!resuming(stage)) {
@@ -469,7 +472,7 @@ class Evolution {
 
   // Records the position before a step, and asks the context whether to checkpoint or stop
   // there: a checkpoint lies between two steps, where the loops can pick it up (restore).
-  void mark(std::string_view stage, int stage_steps, double dt, double a, double v) {
+  void mark(RunStage stage, int stage_steps, double dt, double a, double v) {
     cursor_.grid = params_.grid;
     cursor_.stage = stage;
     cursor_.stage_steps = stage_steps;
@@ -534,7 +537,7 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
   };
   // A checkpoint taken during a correction's relaxation continues that relaxation: its mass
   // was corrected before the checkpoint.
-  bool resuming = evolution.resuming("volume");
+  bool resuming = evolution.resuming(RunStage::kVolume);
   int first = 0;
   double slope = 1.0;
   if (resuming) {
@@ -559,7 +562,7 @@ void constrain_volume(Evolution& evolution, const RunParams& params, RunResult& 
     resuming = false;
     evolution.cursor().correction = c;
     evolution.cursor().slope = slope;
-    const int steps = evolution.relax("volume", 0.01 * params.volume_tol);
+    const int steps = evolution.relax(RunStage::kVolume, 0.01 * params.volume_tol);
     result.volume_steps += steps;
     record(steps);
   }
@@ -594,16 +597,19 @@ void add_topology_warnings(RunResult& r, const RunParams& params) {
 namespace {
 
 // The sharp measures of the final field: once per run, after every stage.
-void measure_final(RunResult& r, const RunParams& params) {
+void measure_final(RunResult& r, const RunParams& params, FinalFieldCache* cache) {
   const auto t0 = WallClock::now();
   // The diffuse measures are the last relaxation's (Evolution::relax ends with them, on this
   // field); the sharp ones are added.
   r.phi.exchange_halo();
   CMCSURF_DCHECK(r.final.mass == mass(r.phi) && r.final.energy == energy(r.phi, params.epsilon));
-  // Keep psi and the samples (this process's block's) for the stages after the run.
-  r.final_psi = Field::like(r.phi, 2);
-  tanh_profile_inverse(r.phi, r.final_psi);
-  add_sharp_measures(r.final, r.phi, &r.final_psi, &r.final_samples);
+  // psi and the samples (this process's block's), kept in `cache` for the stages after the run.
+  FinalFieldCache local;
+  FinalFieldCache& keep = cache ? *cache : local;
+  keep.psi = Field::like(r.phi, 2);
+  tanh_profile_inverse(r.phi, keep.psi);
+  keep.samples.clear();
+  add_sharp_measures(r.final, r.phi, &keep.psi, &keep.samples);
   add_component_measures(r);
   r.measure_seconds = seconds_since(t0);
   if (!(r.final.area > 0.0))
@@ -619,7 +625,7 @@ void measure_final(RunResult& r, const RunParams& params) {
 // constraint's corrections.
 void relax_and_constrain(Evolution& evolution, const RunParams& params, RunResult& result,
                          bool hold_volume) {
-  if (!evolution.resuming("volume")) evolution.relax();
+  if (!evolution.resuming(RunStage::kVolume)) evolution.relax();
   if (hold_volume) constrain_volume(evolution, params, result);
 }
 
@@ -635,13 +641,13 @@ RunResult resumed_result(const RunParams& params, const RunContext& context) {
 // A run that starts from a given field (copied), or continues the context's checkpoint:
 // steps 6 and after, and the final measures.
 RunResult relax_from(const Field& phi0, const RunParams& params, const RunContext& context,
-                     bool hold_volume) {
+                     bool hold_volume, FinalFieldCache* cache) {
   if (context.resume) {
     RunResult result = resumed_result(params, context);
     Evolution evolution(params, context, result);
     evolution.restore(*context.resume);
     relax_and_constrain(evolution, params, result, hold_volume);
-    measure_final(result, params);
+    measure_final(result, params, cache);
     return result;
   }
   RunResult result;
@@ -651,7 +657,7 @@ RunResult relax_from(const Field& phi0, const RunParams& params, const RunContex
   result.seed_topology = phase_topology(result.initial);
   Evolution evolution(params, context, result);
   relax_and_constrain(evolution, params, result, hold_volume);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   add_topology_warnings(result, params);
   return result;
 }
@@ -671,16 +677,17 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
 
 }  // namespace
 
-RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context) {
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context,
+                      FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kRelax);
-  return relax_from(phi0, params, context, false);
+  return relax_from(phi0, params, context, false, cache);
 }
 
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const RunContext& context) {
+                                   const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kRelaxToVolume);
   const bool hold = params.constrain == Constraint::kVolume && is_nodal_surface(params.surface);
-  return relax_from(phi0, params, context, hold);
+  return relax_from(phi0, params, context, hold, cache);
 }
 
 namespace {
@@ -727,7 +734,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   result.phi = Field(params.grid, 2, context.decomposition);
   prolongate_profile(coarse.phi, result.phi);
   result.history = coarse.history;
-  for (StepRecord& r : result.history) r.stage = fmt::format("{}@{}", r.stage, coarse_params.grid);
+  for (StepRecord& r : result.history) r.coarse_grids.push_back(coarse_params.grid);
   result.coarse_steps = coarse.steps + coarse.prerelax_steps + coarse.coarse_steps;
   result.vcycles = coarse.vcycles;
   result.solver_seconds = coarse.solver_seconds;
@@ -759,26 +766,26 @@ InitialFieldParams initial_field_params(const RunParams& params) {
 
 }  // namespace
 
-RunResult run_cmc(const RunParams& params, const RunContext& context) {
+RunResult run_cmc(const RunParams& params, const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kCmc);
   if (!is_nodal_surface(params.surface)) {  // sphere, cube, noise: a direct relaxation
-    if (context.resume) return relax_field(Field(), params, context);
+    if (context.resume) return relax_field(Field(), params, context, cache);
     return relax_field(make_initial_field(initial_field_params(params), params.grid, 2,
                                           context.decomposition),
-                       params, context);
+                       params, context, cache);
   }
   RunResult result = run_cmc_stages(params, context);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   add_topology_warnings(result, params);
   return result;
 }
 
 RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
-                             const RunContext& context) {
+                             const RunContext& context, FinalFieldCache* cache) {
   check_resumable(params, context, RunEntry::kCmcFromField);
   RunResult result = run_cmc_stages(params, context, &phi0);
-  measure_final(result, params);
+  measure_final(result, params, cache);
   if (result.initial.sharp) result.euler_characteristic_start = result.initial.euler_characteristic;
   add_topology_warnings(result, params);
   return result;
@@ -820,7 +827,7 @@ RunResult run_cmc_stages(const RunParams& params, const RunContext& context,
   // A double seed is already at alpha with the equilibrium profile: the wide pre-relaxation
   // would dissolve its thin matrix and the threshold has nothing to do.
   const bool double_seed = params.structure == Structure::kDouble && !start;
-  if (!evolution.resuming("relax") && !evolution.resuming("volume")) {
+  if (!evolution.resuming(RunStage::kRelax) && !evolution.resuming(RunStage::kVolume)) {
     if (!double_seed) {
       evolution.prerelax();                  // step 3
       threshold_and_shift(params, result);   // steps 4 and 5

@@ -15,6 +15,7 @@
 #include "measure/sharp_surface.h"
 #include "pipeline/component_constraint.h"
 #include "pipeline/continuation.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf {
 
@@ -134,8 +135,12 @@ Measures measure_field_diffuse(Field& phi, double epsilon);
 
 struct StepRecord {
   int step = 0;           // counts all time steps, pre-relaxation included
-  std::string stage;      // "prerelax" (step 3, at 5 eps), "relax" (step 6) or "volume"
-                          // (relaxations after the mass corrections of Constraint::kVolume)
+  RunStage stage = RunStage::kRelax;  // prerelax (step 3, at 5 eps), relax (step 6) or volume
+                                      // (relaxations after the mass corrections of kVolume)
+  // Coarse-to-fine continuation: the grids the step's run was carried up through, from the one
+  // it was taken on ("relax@16@32" in history.csv: on 16, for a run on 64); empty on the
+  // run's own grid.
+  std::vector<int> coarse_grids;
   double time = 0.0;
   double dt = 0.0;        // of this step
   double area = 0.0;      // at the stage's epsilon
@@ -191,11 +196,6 @@ struct RunResult {
   double wall_seconds = 0.0;    // the solve: steps 1-6, corrections and continuation
   double solver_seconds = 0.0;  // inside the V-cycles
   double measure_seconds = 0.0;  // the sharp measures of the final field
-  // What the final measures computed on the way, for the stages after the run (run_outputs
-  // takes them): psi = atanh(2 phi - 1) of the final field (ghost 2) and its surface's local
-  // mean curvature samples. Whole grids only (empty on a decomposed block).
-  Field final_psi;
-  std::vector<CurvatureSample> final_samples;
   // Double structures (whole grids; empty otherwise). Constraint::kComponents: each
   // component's target volume and final sharp volume. The seed's topology (the field step 6
   // starts from), each connected piece of the final surface (measure/components.h) and the
@@ -207,6 +207,14 @@ struct RunResult {
   std::vector<std::string> warnings;
 };
 
+// What the final measures computed on the way, returned beside the result for the stages after
+// the run (run_outputs): psi = atanh(2 phi - 1) of the final field (ghost 2; this process's
+// block under a decomposition) and its surface's local mean curvature samples.
+struct FinalFieldCache {
+  Field psi;
+  std::vector<CurvatureSample> samples;
+};
+
 // Called after every time step with the step's record.
 using ProgressFn = std::function<void(const StepRecord&)>;
 
@@ -214,7 +222,7 @@ using ProgressFn = std::function<void(const StepRecord&)>;
 // fields of a Checkpoint, enough to continue it to the same bits.
 struct RunCursor {
   int grid = 0;           // of the stage (N / 2^k during coarse-to-fine continuation)
-  std::string stage;      // "prerelax" (step 3), "relax" (step 6) or "volume" (a correction's)
+  RunStage stage = RunStage::kRelax;  // prerelax (step 3), relax (step 6), volume (corrections)
   int stage_steps = 0;    // steps taken in the stage's loop so far
   double dt = 0.0;        // of the next step
   double area = 0.0;      // area at the stage's epsilon before the next step
@@ -302,25 +310,29 @@ void truncate_unit_interval(Field& phi);
 void shift_mean(Field& phi, double alpha);
 
 // Relaxes a given field (copied, any ghost width) at params.epsilon until the stop rule.
-RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context = {});
+// Each entry point fills `cache` (if given) with the final measures' psi and samples.
+RunResult relax_field(const Field& phi0, const RunParams& params, const RunContext& context = {},
+                      FinalFieldCache* cache = nullptr);
 
 // Steps 6 and after from a given start (copied): relaxes at params.epsilon and, for a nodal
 // surface with Constraint::kVolume, corrects the mass until the sharp volume fraction is
 // params.volume_fraction (the same secant iteration as run_cmc). Sweeps continue a family
 // from its previous member with it.
 RunResult relax_to_volume_fraction(const Field& phi0, const RunParams& params,
-                                   const RunContext& context = {});
+                                   const RunContext& context = {},
+                                   FinalFieldCache* cache = nullptr);
 
 
 // Runs the whole algorithm. Throws SolverDiverged on divergence, std::invalid_argument on
 // parameters the caller should have validated.
-RunResult run_cmc(const RunParams& params, const RunContext& context = {});
+RunResult run_cmc(const RunParams& params, const RunContext& context = {},
+                  FinalFieldCache* cache = nullptr);
 
 // Steps 2-6 and the volume constraint (Section 4.4) from a given phi^0 (copied, any ghost width)
 // instead of the surface's formula, then the final measures, as run_cmc: a user's own field
 // relaxed to the CMC surface at params.volume_fraction (python relax()). No coarse-to-fine
 // continuation (params.coarse_levels is ignored: there is no coarser version of the field).
 RunResult run_cmc_from_field(const Field& phi0, const RunParams& params,
-                             const RunContext& context = {});
+                             const RunContext& context = {}, FinalFieldCache* cache = nullptr);
 
 }  // namespace cmcsurf

@@ -34,7 +34,7 @@ Checkpoint stop_in(const RunParams& p, const std::string& stage, int grid, int a
   RunContext context;
   context.control = [] { return RunControl::kCheckpoint; };
   context.checkpoint = [&](const Checkpoint& c) {
-    if (c.cursor.stage == stage && c.cursor.grid == grid && ++seen == at) {
+    if (run_stage_name(c.cursor.stage) == stage && c.cursor.grid == grid && ++seen == at) {
       found = c;
       throw Found{};
     }
@@ -69,7 +69,7 @@ TEST(ResumeCheck, AcceptsTheRunsOwnCheckpoints) {
        {std::tuple{fine, "prerelax", 16}, {fine, "relax", 16}, {fine, "volume", 16},
         {coarse, "prerelax", 16}, {coarse, "volume", 16}, {coarse, "relax", 32}}) {
     const Checkpoint c = stop_in(p, stage, grid, 2);
-    EXPECT_EQ(c.cursor.stage, stage);
+    EXPECT_EQ(run_stage_name(c.cursor.stage), stage);
     EXPECT_EQ(resume_problem(c, p, RunEntry::kCmc), "") << stage << "@" << grid;
   }
 }
@@ -114,7 +114,7 @@ TEST(ResumeCheck, RefusesAGridTheRunDoesNotPassThrough) {
   EXPECT_THROW(relax_to_volume_fraction(Field(), p, context), std::invalid_argument);
   // Pre-relaxation happens on the coarsest grid only.
   const Checkpoint fine = stop_in(p, "relax", 32);
-  EXPECT_NE(problem_after(p, fine, [](Checkpoint& x) { x.cursor.stage = "prerelax"; })
+  EXPECT_NE(problem_after(p, fine, [](Checkpoint& x) { x.cursor.stage = RunStage::kPrerelax; })
                 .find("stage 'prerelax' on grid 32"),
             std::string::npos);
 }

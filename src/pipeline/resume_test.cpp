@@ -69,7 +69,7 @@ void expect_same_run(const RunResult& a, const RunResult& b) {
   for (std::size_t s = 0; s < a.history.size(); ++s) {
     const StepRecord &x = a.history[s], &y = b.history[s];
     EXPECT_EQ(x.step, y.step);
-    EXPECT_EQ(x.stage, y.stage) << "step " << x.step;
+    EXPECT_EQ(stage_text(x), stage_text(y)) << "step " << x.step;
     EXPECT_EQ(x.vcycles, y.vcycles) << "step " << x.step;
     for (auto [u, v] : {std::pair{x.time, y.time}, {x.dt, y.dt}, {x.area, y.area},
                         {x.d_area, y.d_area}, {x.d_phi, y.d_phi}, {x.energy, y.energy},
@@ -131,7 +131,8 @@ void check_resumes(const RunParams& p, std::vector<std::string> want_stages) {
   // A stop before every stage's first and second step, and half-way through each stage.
   std::vector<int> at;
   for (int s = 0; s < steps; ++s) {
-    const bool first = s == 0 || whole.history[s].stage != whole.history[s - 1].stage;
+    const bool first =
+        s == 0 || stage_text(whole.history[s]) != stage_text(whole.history[s - 1]);
     if (first) at.insert(at.end(), {s + 1, s + 2});
   }
   at.push_back(steps / 2);
@@ -140,9 +141,10 @@ void check_resumes(const RunParams& p, std::vector<std::string> want_stages) {
   for (int k : at) {
     if (k < 1 || k > steps) continue;
     SCOPED_TRACE(::testing::Message() << p.surface << " N " << p.grid << ": stopped before step "
-                                      << k << " (" << whole.history[k - 1].stage << ")");
+                                      << k << " (" << stage_text(whole.history[k - 1]) << ")");
     Checkpoint c = stop_before(p, k, tmp);
-    seen.insert(c.cursor.stage + "@" + std::to_string(c.cursor.grid));
+    seen.insert(std::string(run_stage_name(c.cursor.stage)) + "@" +
+                std::to_string(c.cursor.grid));
     expect_same_run(resume(p, std::move(c)), whole);
   }
   for (const std::string& s : want_stages) EXPECT_TRUE(seen.count(s)) << "no stop in " << s;

@@ -14,15 +14,15 @@ CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,
   return measure_cmc_quality_psi(psi, r.final.volume_fraction, p, samples);
 }
 
-RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,
-                       bool page) {
+RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r,
+                       std::optional<FinalFieldCache> cache, bool preview, bool page) {
   RunOutputs out;
   const auto t0 = WallClock::now();
-  const bool kept = r.final_psi.n() == phi.n() && r.final_psi.size() == phi.size();
-  const Field psi = kept ? std::move(r.final_psi) : profile_inverse(phi);
-  const std::vector<CurvatureSample> samples = std::move(r.final_samples);
-  r.final_psi = Field();
-  r.final_samples.clear();
+  const bool kept = cache && cache->psi.n() == phi.n() && cache->psi.size() == phi.size();
+  const Field psi = kept ? std::move(cache->psi) : profile_inverse(phi);
+  const std::vector<CurvatureSample> samples =
+      kept ? std::move(cache->samples) : std::vector<CurvatureSample>();
+  cache.reset();
   out.quality = run_quality(psi, p, r, kept ? &samples : nullptr);
   out.quality.seconds = seconds_since(t0);
   if (preview) out.preview = make_run_preview(psi, p, r, out.quality);

@@ -21,10 +21,11 @@ struct RunOutputs {
 
 // phi: the final field of r (r.phi: the whole grid, or this process's block under MPI, when
 // every process calls it and rank 0 gets the preview and the page). The quality stage always
-// runs; the preview and the page's meshes when asked for. r's final_psi and final_samples, the
-// final measures' own, are used (and left empty) where r holds them; else they are computed.
-RunOutputs run_outputs(const Field& phi, const RunParams& p, RunResult& r, bool preview,
-                       bool page);
+// runs; the preview and the page's meshes when asked for. `cache`: the final measures' psi and
+// samples that the run returned beside r (taken over here, so that they are freed with the
+// outputs' own); without it they are computed.
+RunOutputs run_outputs(const Field& phi, const RunParams& p, const RunResult& r,
+                       std::optional<FinalFieldCache> cache, bool preview, bool page);
 // The quality stage alone, from a given psi and, if given, its surface's samples (Python takes
 // the quality with the run, the pictures when it saves).
 CmcQuality run_quality(const Field& psi, const RunParams& p, const RunResult& r,

@@ -19,6 +19,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/properties_pictures.h"
 #include "pipeline/sweep.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf {
 
@@ -179,10 +180,10 @@ double write_sweep_page(const fs::path& dir) {
   nlohmann::json members = nlohmann::json::array();
   std::vector<nlohmann::json> reports;
   double reach = 0.0;
-  std::string table =
-      "<table class=\"members\" id=\"members\">\n<tr><th>member</th><th>α</th><th>V</th>"
-      "<th>area</th><th>H</th><th>H std</th><th>nodal H std</th><th>std ratio</th>"
-      "<th>nodal area excess</th><th>steps</th></tr>\n";
+  std::string table = "<table class=\"members\" id=\"members\">\n<tr><th>member</th>";
+  for (const ReportKey& k : report_key_table())
+    if (!k.sweep_page.header.empty()) table += fmt::format("<th>{}</th>", k.sweep_page.header);
+  table += "</tr>\n";
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
       const std::string name =
@@ -198,20 +199,20 @@ double write_sweep_page(const fs::path& dir) {
                          {"alpha", alpha},
                          {"mean_curvature", h},
                          {"mesh", mesh_json(s.relaxed)}});
-      auto cell = [&](const char* key, const char* format) {
-        if (!report.contains(key) || !report[key].is_number())
-          return fmt::format("<td data-key=\"{}\">–</td>", key);
-        const double v = report[key].get<double>();
-        return fmt::format("<td data-key=\"{}\" data-value=\"{:.17g}\">{}</td>", key, v,
-                           format_number(format, v));
-      };
-      table += fmt::format(
-          "<tr class=\"member\" data-member=\"{}\"><td>{}</td>{}{}{}{}{}{}{}{}{}</tr>\n",
-          html_escape(name), html_escape(name), cell("volume_fraction_target", "{:.4g}"),
-          cell("volume_fraction", "{:.4f}"), cell("area", "{:.5f}"),
-          cell("mean_curvature", "{:+.5f}"), cell("mean_curvature_std", "{:.3g}"),
-          cell("nodal_mean_curvature_std", "{:.3g}"), cell("nodal_std_ratio", "{:.3g}"),
-          cell("nodal_area_excess", "{:+.3%}"), cell("steps", "{:.0f}"));
+      std::string cells;
+      for (const ReportKey& k : report_key_table()) {
+        if (k.sweep_page.header.empty()) continue;
+        const auto v = report.find(k.key);
+        if (v == report.end() || !v->is_number()) {
+          cells += fmt::format("<td data-key=\"{}\">–</td>", k.key);
+          continue;
+        }
+        cells += fmt::format("<td data-key=\"{}\" data-value=\"{:.17g}\">{}</td>", k.key,
+                             v->get<double>(),
+                             format_report_number(k.sweep_page.format, v->get<double>()));
+      }
+      table += fmt::format("<tr class=\"member\" data-member=\"{}\"><td>{}</td>{}</tr>\n",
+                           html_escape(name), html_escape(name), cells);
       reports.push_back(report);
     }
   table += "</table>\n";

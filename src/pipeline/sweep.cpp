@@ -305,7 +305,8 @@ SweepJson parse_sweep_json(const nlohmann::json& j) {
 }
 
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
-                             const RunParams& params, const RunContext& context) {
+                             const RunParams& params, const RunContext& context,
+                             FinalFieldCache* cache) {
   const double alpha = params.volume_fraction;
   Field phi0(params.grid, 2, context.decomposition);
   copy_interior(neighbour, phi0);
@@ -317,7 +318,7 @@ RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
     add_constant(phi0, alpha - neighbour_alpha);
     phi0.exchange_halo();
   }
-  return relax_to_volume_fraction(phi0, params, context);
+  return relax_to_volume_fraction(phi0, params, context, cache);
 }
 
 CmcQuality measure_cmc_quality(const Field& relaxed, const RunParams& params) {
@@ -405,17 +406,18 @@ void run_sweep(const SweepParams& params, const std::function<void(const SweepMe
       }
       if (starting) starting(m);
       RunResult r;
+      FinalFieldCache cache;
       if (start.kind == MemberStart::Kind::kResume) {  // its checkpoint holds its start
         RunContext resumed = context;
         resumed.resume = start.checkpoint;
-        r = continued ? relax_to_volume_fraction(Field(), m.params, resumed)
-                      : run_cmc(m.params, resumed);
+        r = continued ? relax_to_volume_fraction(Field(), m.params, resumed, &cache)
+                      : run_cmc(m.params, resumed, &cache);
       } else {
-        r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context)
-                      : run_cmc(m.params, context);
+        r = continued ? run_from_neighbour(previous, previous_alpha, m.params, context, &cache)
+                      : run_cmc(m.params, context, &cache);
       }
       if (params.continuation) keep(r.phi, alpha, m.name);
-      if (done) done(m, r);
+      if (done) done(m, std::move(r), std::move(cache));
     }
   }
 }

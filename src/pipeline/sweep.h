@@ -76,7 +76,8 @@ struct SweepMember {
 // shifted by alpha - neighbour_alpha and handed to relax_to_volume_fraction, whose secant
 // iteration on the mass (the one run_cmc uses) brings V to alpha within volume_tol.
 RunResult run_from_neighbour(const Field& neighbour, double neighbour_alpha,
-                             const RunParams& params, const RunContext& context = {});
+                             const RunParams& params, const RunContext& context = {},
+                             FinalFieldCache* cache = nullptr);
 
 // CMC quality of a run's final field (docs/families.md), a pipeline stage after the solve: the
 // local mean curvature over the surface (measure/sharp_surface.h) and, for nodal surfaces, the
@@ -106,10 +107,11 @@ using PlanFn = std::function<MemberStart(const SweepMember&)>;
 
 // Runs every member, surfaces outermost, fractions in the given order. `plan` (may be empty:
 // every member runs) is asked first; `starting` is called before a member runs, `done` after
-// (it may keep or write the result; the field is only kept here for the next member's
-// continuation). A RunInterrupted from a member's run passes through. Under
+// and is handed the result with the final measures' psi and samples that the run returned
+// beside it (for run_outputs); the field is kept here only for the next member's continuation,
+// copied before. A RunInterrupted from a member's run passes through. Under
 // context.decomposition every process of it calls this alike and gets its blocks.
-using MemberFn = std::function<void(const SweepMember&, RunResult&)>;
+using MemberFn = std::function<void(const SweepMember&, RunResult, FinalFieldCache)>;
 void run_sweep(const SweepParams& params, const std::function<void(const SweepMember&)>& starting,
                const MemberFn& done, const RunContext& context = {}, const PlanFn& plan = {});
 

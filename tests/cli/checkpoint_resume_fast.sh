@@ -5,6 +5,7 @@
 set -u
 bin="$1"
 support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
+export CMCSURF_BIN="$bin"  # report_keys.py reads the timing keys from its `schema --json`
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -10,6 +10,7 @@
 set -u
 bin="$1"
 support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
+export CMCSURF_BIN="$bin"  # report_keys.py reads the timing keys from its `schema --json`
 np="$2"
 mpiexec="$3"
 export OMP_NUM_THREADS=1  # the serial reference on one thread, as each rank below

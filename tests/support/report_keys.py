@@ -1,20 +1,54 @@
 """Comparing two reports of the same surface (report.json, or rows of sweep.csv), timings aside.
 
 TIMING_KEYS are the keys whose values depend on the machine, the clock or where a run was
-interrupted and resumed, not on the surface computed; the test scripts that compare a resumed or
-decomposed run with an uninterrupted one import them from here (PYTHONPATH=tests/support).
+interrupted and resumed, not on the surface computed: the report keys the library's table marks
+as timings (schema/report_schema.cpp), read from `$CMCSURF_BIN schema --json`. The test scripts
+that compare a resumed or decomposed run with an uninterrupted one import them from here
+(PYTHONPATH=tests/support, CMCSURF_BIN=the cmcsurf under test); without CMCSURF_BIN, or when
+the command fails, importing this module fails: an empty set would compare nothing.
 """
-
-TIMING_KEYS = frozenset({
-    "wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds", "volume_seconds",
-    "seconds_per_vcycle", "preview_seconds", "page_seconds", "write_seconds",
-    "surface_mesh_seconds", "checkpoint_seconds", "peak_memory_bytes",
-    "peak_memory_bytes_per_cell", "checkpoints_written", "resumed_from_step",
-})
+import json
+import math
+import os
+import subprocess
 
 
-def differing_keys(a, b, ignore=()):
+def schema():
+    """The report schema of the cmcsurf in $CMCSURF_BIN, as `cmcsurf schema --json` prints it."""
+    binary = os.environ.get("CMCSURF_BIN")
+    if not binary:
+        raise RuntimeError("report_keys: set CMCSURF_BIN to the cmcsurf under test (its "
+                           "`schema --json` names the timing keys)")
+    out = subprocess.run([binary, "schema", "--json"], check=True, capture_output=True,
+                         text=True).stdout
+    return json.loads(out)
+
+
+SCHEMA = schema()
+TIMING_KEYS = frozenset(k["key"] for k in SCHEMA["report_keys"] if k["timing"])
+if not TIMING_KEYS:
+    raise RuntimeError("report_keys: the schema marks no key as a timing")
+
+
+def _same(a, b, rtol):
+    if isinstance(a, bool) or isinstance(b, bool) or rtol == 0.0:
+        return a == b
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        if isinstance(a, int) and isinstance(b, int):
+            return a == b
+        return a == b or math.isclose(a, b, rel_tol=rtol, abs_tol=rtol * 1e-3)
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k], rtol) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_same(x, y, rtol) for x, y in zip(a, b))
+    return a == b
+
+
+def differing_keys(a, b, ignore=(), rtol=0.0):
     """The keys of the dicts a and b, less TIMING_KEYS and ignore, whose values differ (a key
-    present in one only differs), sorted."""
+    present in one only differs, unless its value is null), sorted. rtol > 0: floating-point
+    numbers (also inside nested dicts and lists) may differ by that relative amount; integers,
+    strings and booleans not."""
     skip = TIMING_KEYS | set(ignore)
-    return sorted(k for k in set(a) | set(b) if k not in skip and a.get(k) != b.get(k))
+    return sorted(k for k in set(a) | set(b)
+                  if k not in skip and not _same(a.get(k), b.get(k), rtol))

@@ -1,0 +1,94 @@
+#include "schema/report_schema.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace cmcsurf {
+namespace {
+
+TEST(ReportSchema, KeysAreUniqueAndViewsNameKeysOfTheTable) {
+  std::set<std::string_view> keys;
+  for (const ReportKey& k : report_key_table()) {
+    EXPECT_TRUE(keys.insert(k.key).second) << k.key;
+    EXPECT_FALSE(k.label.empty()) << k.key;
+    if (!k.error_key.empty()) {
+      EXPECT_NO_THROW(report_key(k.error_key)) << k.key;
+    }
+    EXPECT_EQ(k.sweep_page.header.empty(), k.sweep_page.format.empty()) << k.key;
+    if (k.convention) {
+      EXPECT_FALSE(k.help.empty()) << k.key;  // report.json's conventions
+    }
+  }
+  for (std::string_view key : sweep_leading_columns()) EXPECT_NO_THROW(report_key(key)) << key;
+  for (const FamiliesColumn& c : families_table_columns())
+    EXPECT_NO_THROW(report_key(c.key)) << c.key;
+  EXPECT_THROW(report_key("no_such_key"), std::logic_error);
+}
+
+TEST(ReportSchema, PageRowsComeFirstInThePagesOrder) {
+  bool page = true;
+  for (const ReportKey& k : report_key_table()) {
+    if (k.page == PageTable::kNone) page = false;
+    EXPECT_TRUE(page || k.page == PageTable::kNone) << k.key << " after a key not on the page";
+  }
+  EXPECT_EQ(report_key_table().front().key, "surface");
+}
+
+TEST(ReportSchema, TimingKeysAreTheClocksAndCounters) {
+  const std::vector<std::string> t = timing_report_keys();
+  const std::set<std::string> timing(t.begin(), t.end());
+  // The ones the resume tests have always ignored.
+  for (const char* key :
+       {"wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds", "volume_seconds",
+        "seconds_per_vcycle", "preview_seconds", "page_seconds", "write_seconds",
+        "surface_mesh_seconds", "checkpoint_seconds", "peak_memory_bytes",
+        "peak_memory_bytes_per_cell", "checkpoints_written", "resumed_from_step"})
+    EXPECT_TRUE(timing.count(key)) << key;
+  for (const char* key : {"area", "steps", "vcycles", "mean_curvature", "converged"})
+    EXPECT_FALSE(timing.count(key)) << key;
+}
+
+TEST(ReportSchema, NumbersAreFormattedAsTheTablesAlwaysWereWritten) {
+  EXPECT_EQ(format_report_number("{:+.3%}", 0.003123133035079162), "+0.312%");
+  EXPECT_EQ(format_report_number("{:+.4%}", 4.3647859912399056e-05), "+0.0044%");
+  EXPECT_EQ(format_report_number("{:.3g}", 3.197224069037266), "3.2");
+  EXPECT_EQ(summary_number("area", 3.0836526295383719), "3.083653");
+  EXPECT_EQ(member_line_number("mean_curvature", 0.24772959099616076), "+0.2477");
+  EXPECT_EQ(member_line_number("steps", 30.0), "30");
+}
+
+TEST(ReportSchema, HistoryColumnsAndStages) {
+  EXPECT_EQ(history_header(),
+            "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt,"
+            "volume_fraction");
+  int i = 0;
+  for (const HistoryColumnInfo& c : history_column_table()) EXPECT_EQ(int(c.id), i++) << c.name;
+  for (RunStage s : {RunStage::kPrerelax, RunStage::kRelax, RunStage::kVolume})
+    EXPECT_EQ(parse_run_stage(run_stage_name(s)), s);
+  EXPECT_EQ(run_stage_name(RunStage::kPrerelax), "prerelax");
+  EXPECT_FALSE(parse_run_stage("relax@32"));
+  EXPECT_FALSE(parse_run_stage(""));
+}
+
+TEST(ReportSchema, DumpHoldsEveryTable) {
+  const nlohmann::json j = nlohmann::json::parse(report_schema_json());
+  ASSERT_EQ(j.at("report_keys").size(), report_key_table().size());
+  std::vector<std::string> timing;
+  for (const nlohmann::json& k : j["report_keys"])
+    if (k.at("timing").get<bool>()) timing.push_back(k.at("key"));
+  std::sort(timing.begin(), timing.end());
+  EXPECT_EQ(timing, timing_report_keys());
+  EXPECT_EQ(j.at("history_columns").size(), history_column_table().size());
+  EXPECT_EQ(j.at("history_columns")[9].at("format"), "{:.6e}");
+  EXPECT_EQ(j.at("sweep_leading_columns").size(), sweep_leading_columns().size());
+  EXPECT_EQ(j.at("families_table")[0].at("header"), "alpha");
+  EXPECT_EQ(j.at("stages"), nlohmann::json({"prerelax", "relax", "volume"}));
+}
+
+}  // namespace
+}  // namespace cmcsurf
