@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "grid/stencil.h"
+#include "multigrid/transfer.h"
 
 namespace cmcsurf {
 
@@ -174,6 +176,97 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
         apply_row(&phi(0, j, k), &nu(0, j, k), &out_phi(0, j, k), &out_nu(0, j, k), nx, sy, sz,
                   inv_dt, inv_h2, eps2);
   }
+}
+
+double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi,
+                         const Field& rhs_nu, const ChParams& p) {
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(nu.size() == phi.size() && rhs_phi.size() == phi.size() &&
+                rhs_nu.size() == phi.size());
+  const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  double s1 = 0.0, s2 = 0.0;
+  // The loops and the reduction are ch_defect_norm's, so the sums come out in its order.
+#pragma omp parallel reduction(+ : s1, s2) if (nx >= kParallelMinN)
+  {
+    std::vector<double> row(2 * std::size_t(nx));
+    double* a = row.data();
+    double* b = a + nx;
+#pragma omp for schedule(static)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
+        residual_row(&phi(0, j, k), &nu(0, j, k), &rhs_phi(0, j, k), &rhs_nu(0, j, k), a, b, nx,
+                     sy, sz, inv_dt, inv_h2, eps2);
+        for (int i = 0; i < nx; ++i) {
+          s1 += a[i] * a[i];
+          s2 += b[i] * b[i];
+        }
+      }
+  }
+  double sums[2] = {s1, s2};
+  phi.sum_over_ranks(sums, 2);
+  return std::sqrt((p.dt * p.dt * sums[0] + sums[1]) / phi.global_cells());
+}
+
+void nso_residual_restrict(const Field& phi, const Field& nu, const Field& rhs_phi,
+                           const Field& rhs_nu, const ChParams& p, Field& coarse_phi,
+                           Field& coarse_nu) {
+  CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
+  CMCSURF_CHECK(nu.size() == phi.size() && rhs_phi.size() == phi.size() &&
+                rhs_nu.size() == phi.size() && coarse_nu.size() == coarse_phi.size());
+  for (int a = 0; a < 3; ++a)
+    CMCSURF_CHECK(phi.size()[a] == 2 * coarse_phi.size()[a] &&
+                  phi.offset()[a] == 2 * coarse_phi.offset()[a]);
+  CMCSURF_CHECK(phi.n() == 2 * coarse_phi.n());
+  const int n = phi.n(), nx = phi.nx();
+  const int ncx = coarse_phi.nx(), ncy = coarse_phi.ny(), ncz = coarse_phi.nz();
+  const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+#pragma omp parallel if (nx >= kParallelMinN)
+  {
+    // The defect of the four fine rows (dj, dk) under one coarse row, per component.
+    std::vector<double> rows(8 * std::size_t(nx));
+#pragma omp for schedule(static)
+    for (int k = 0; k < ncz; ++k)
+      for (int j = 0; j < ncy; ++j) {
+        for (int q = 0; q < 4; ++q) {
+          const int fj = 2 * j + (q & 1), fk = 2 * k + (q >> 1);
+          residual_row(&phi(0, fj, fk), &nu(0, fj, fk), &rhs_phi(0, fj, fk), &rhs_nu(0, fj, fk),
+                       &rows[std::size_t(q) * nx], &rows[std::size_t(q + 4) * nx], nx, sy, sz,
+                       inv_dt, inv_h2, eps2);
+        }
+        for (int c = 0; c < 2; ++c) {
+          // Rows (j, k), (j+1, k), (j, k+1), (j+1, k+1), summed as restrict_average sums them.
+          const double* r0 = &rows[std::size_t(4 * c) * nx];
+          const double* r1 = r0 + nx;
+          const double* r2 = r1 + nx;
+          const double* r3 = r2 + nx;
+          double* out = c == 0 ? &coarse_phi(0, j, k) : &coarse_nu(0, j, k);
+          for (int i = 0; i < ncx; ++i) {
+            const int f = 2 * i;
+            out[i] = 0.125 * ((r0[f] + r0[f + 1]) + (r1[f] + r1[f + 1]) + (r2[f] + r2[f + 1]) +
+                              (r3[f] + r3[f + 1]));
+          }
+        }
+      }
+  }
+}
+
+void nso_residual_restrict_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                               const Field& rhs_nu, const ChParams& p, Field& coarse_phi,
+                               Field& coarse_nu) {
+  Field d_phi = Field::like(phi, 0), d_nu = Field::like(phi, 0);
+  nso_residual_ref(phi, nu, &rhs_phi, &rhs_nu, p, d_phi, d_nu);
+  restrict_average_ref(d_phi, coarse_phi);
+  restrict_average_ref(d_nu, coarse_nu);
+}
+
+double nso_residual_norm_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                             const Field& rhs_nu, const ChParams& p) {
+  Field d_phi = Field::like(phi, 0), d_nu = Field::like(phi, 0);
+  nso_residual_ref(phi, nu, &rhs_phi, &rhs_nu, p, d_phi, d_nu);
+  return ch_defect_norm_ref(d_phi, d_nu, p.dt);
 }
 
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
@@ -432,5 +525,14 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
 }
 
 double ChOperator::norm(const Fields& d) const { return ch_defect_norm(d[0], d[1], p_.dt); }
+
+void ChOperator::residual_restricted(const Fields& u, const Fields& rhs, Fields&,
+                                     Fields& coarse) const {
+  nso_residual_restrict(u[0], u[1], rhs[0], rhs[1], p_, coarse[0], coarse[1]);
+}
+
+double ChOperator::residual_norm(const Fields& u, const Fields& rhs, Fields&) const {
+  return nso_residual_norm(u[0], u[1], rhs[0], rhs[1], p_);
+}
 
 }  // namespace cmcsurf

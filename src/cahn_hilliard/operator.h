@@ -43,6 +43,9 @@ class ChOperator : public FasOperator {
   // lexicographic; u's ghosts are valid on return.
   void smooth(Fields& u, const Fields& rhs, int sweeps) const override;
   double norm(const Fields& defect) const override;  // ch_defect_norm
+  double residual_norm(const Fields& u, const Fields& rhs, Fields& scratch) const override;
+  void residual_restricted(const Fields& u, const Fields& rhs, Fields& scratch,
+                           Fields& coarse) const override;
 
  private:
   ChParams p_;
@@ -69,6 +72,25 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
                   const ChParams& p, Field& out_phi, Field& out_nu);
 void nso_residual_ref(const Field& phi, const Field& nu, const Field* rhs_phi,
                       const Field* rhs_nu, const ChParams& p, Field& out_phi, Field& out_nu);
+
+// ch_defect_norm(rhs - NSO(u)) without storing the defect: each row's defect goes to a buffer
+// and is summed as ch_defect_norm sums it, so the result has the same bits as nso_residual
+// followed by ch_defect_norm (a quarter of the bytes: no defect written and read back).
+double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi,
+                         const Field& rhs_nu, const ChParams& p);
+double nso_residual_norm_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                             const Field& rhs_nu, const ChParams& p);
+
+// restrict_average(rhs - NSO(u)) into the coarse fields (n/2, interiors) without storing the
+// fine defect: the four fine rows under a coarse row are formed in buffers and averaged as
+// restrict_average averages them, so the bits are those of nso_residual then restrict_average
+// (the V-cycle saves writing two fine fields and reading them back).
+void nso_residual_restrict(const Field& phi, const Field& nu, const Field& rhs_phi,
+                           const Field& rhs_nu, const ChParams& p, Field& coarse_phi,
+                           Field& coarse_nu);
+void nso_residual_restrict_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                               const Field& rhs_nu, const ChParams& p, Field& coarse_phi,
+                               Field& coarse_nu);
 
 // One relaxation of the cells of one colour ((i+j+k) % 2 == colour, global indices) by
 // (A.3)-(A.4), in parallel. Needs valid ghosts on entry and updates the interior only: the

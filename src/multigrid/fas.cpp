@@ -73,6 +73,12 @@ FasSolver::FasSolver(int n, int components, int ghost, const FasOptions& options
   }
 }
 
+void FasOperator::residual_restricted(const Fields& u, const Fields& rhs, Fields& scratch,
+                                      Fields& coarse) const {
+  residual(u, rhs, scratch);
+  for (std::size_t c = 0; c < scratch.size(); ++c) restrict_average(scratch[c], coarse[c]);
+}
+
 void exchange_halos(Fields& u) {
   constexpr std::size_t kMax = 8;
   CMCSURF_CHECK(u.size() <= kMax);
@@ -90,8 +96,7 @@ void FasSolver::vcycle(const FasOperator& op) {
 double FasSolver::residual_norm(const FasOperator& op) {
   FasLevel& fine = levels_[0];
   exchange_halos(fine.u);
-  op.residual(fine.u, fine.rhs, fine.defect);
-  return op.norm(fine.defect);
+  return op.residual_norm(fine.u, fine.rhs, fine.defect);
 }
 
 // Steps 1-9 of the FAS cycle in Appendix A. On entry and on return the level's u has valid
@@ -107,16 +112,19 @@ void FasSolver::cycle(const FasOperator& op, int l) {
   const int nc = int(fine.u.size());
 
   op.smooth(fine.u, fine.rhs, options_.pre_sweeps);  // 1) presmoothing
-  op.residual(fine.u, fine.rhs, fine.defect);        // 2) defect
   const bool gather = !coarse.block_u.empty();  // coarse level held whole by every process
-  for (int c = 0; c < nc; ++c) {                 // 3) restrict defect and solution
+  if (gather) {
+    op.residual(fine.u, fine.rhs, fine.defect);  // 2) defect
+  } else {  // 2-3) the defect restricted as it is formed
+    op.residual_restricted(fine.u, fine.rhs, fine.defect, coarse.rhs);
+  }
+  for (int c = 0; c < nc; ++c) {  // 3) restrict defect and solution
     if (gather) {
       restrict_average(fine.defect[c], coarse.block_u[c]);
       gather_field(coarse.block_u[c], coarse.rhs[c], true);
       restrict_average(fine.u[c], coarse.block_u[c]);
       gather_field(coarse.block_u[c], coarse.u[c], true);
     } else {
-      restrict_average(fine.defect[c], coarse.rhs[c]);
       restrict_average(fine.u[c], coarse.u[c]);
     }
     copy_interior(coarse.u[c], coarse.u_start[c]);

@@ -29,6 +29,18 @@ class FasOperator {
   virtual void smooth(Fields& u, const Fields& rhs, int sweeps) const = 0;
   // Norm in which the cycle measures a defect (interior only).
   virtual double norm(const Fields& defect) const = 0;
+  // norm(rhs - A(u)); scratch may hold the defect on return. An operator may override it to
+  // take the norm without storing the defect (the stop test after every V-cycle needs only
+  // the number).
+  virtual double residual_norm(const Fields& u, const Fields& rhs, Fields& scratch) const {
+    residual(u, rhs, scratch);
+    return norm(scratch);
+  }
+  // coarse = restrict_average(rhs - A(u)) on the next coarser level (interior); scratch may
+  // hold the fine defect on return. An operator may fuse the two so that the fine defect is
+  // never stored.
+  virtual void residual_restricted(const Fields& u, const Fields& rhs, Fields& scratch,
+                                   Fields& coarse) const;
 };
 
 // Exchanges the halos of every component at once (one message per neighbour under MPI).

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "cahn_hilliard/anderson.h"
 #include "common/wall_clock.h"
 #include "measure/measures.h"
 #include "multigrid/fas.h"
@@ -396,9 +397,13 @@ class Evolution {
       taken = cursor_.stage_steps;
       resuming_ = false;
     }
+    const bool equilibrium = params_.equilibrium_tol > 0.0;
+    // The mixing starts afresh with each relaxation (its map differs after a mass correction).
+    if (equilibrium && params_.anderson_depth > 0) anderson_.emplace(params_.anderson_depth);
     for (int s = taken; s < params_.max_steps; ++s) {
       mark(stage, taken, dt, a, v);
       stepper_.set_dt(dt);
+      const double step_dt = dt;
       const StepRecord r = advance(stage, a);
       dt = last_step_converged_ ? std::min(dt_max, 2.0 * dt) : std::max(dt0, 0.5 * dt);
       a = r.area;
@@ -406,7 +411,6 @@ class Evolution {
       ++result_.steps;
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
-      const bool equilibrium = params_.equilibrium_tol > 0.0;
       if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
         met = equilibrium_residual(result_.phi, params_.epsilon) <= params_.equilibrium_tol;
       if (volume_rate > 0.0) {
@@ -424,7 +428,9 @@ class Evolution {
         result_.stop_reason = "settled";
         break;
       }
+      if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max);
     }
+    anderson_.reset();  // its history (16 + 8 depth bytes per cell) is not needed after
     if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
@@ -451,6 +457,24 @@ class Evolution {
     constexpr int kCountCheckEvery = 10;
     components_->project(phi);
     if ((step_ + 1) % kCountCheckEvery == 0) components_->check_count(phi, step_ + 1);
+  }
+
+  // Mixes the field of the step just taken with the last ones at the same dt (the map
+  // x -> G(x) is fixed only while dt is); any other step starts the history again.
+  void accelerate(bool fixed_dt) {
+    if (!fixed_dt) {
+      anderson_->reset();
+      return;
+    }
+    Field& phi = result_.phi;
+    const Field* before = stepper_.phi_before_step();
+    if (anderson_->mix(before ? *before : previous_, phi) > 0) {
+      phi.exchange_halo();
+      // The stepper's nu and extrapolation history belong to the unmixed field; started
+      // again from the mixed one, the next step takes fewer steps to the same end (13 finest
+      // steps against 17 for G at 0.5, 128^3).
+      stepper_.reset_nu();
+    }
   }
 
   // Whether the diffuse area and the sharp volume fraction of the last `taken` steps (this
@@ -519,6 +543,7 @@ class Evolution {
   RunCursor cursor_;
   bool resuming_ = false;
   std::optional<ComponentConstraint> components_;
+  std::optional<AndersonMixer> anderson_;
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where

@@ -79,6 +79,10 @@ struct RunParams {
   // equilibrium residual (measure/measures.h: the spread of the local H that the chemical
   // potential still drives, in the units of H) is at most this, instead of the --stop rule.
   double equilibrium_tol = 0.0;
+  // Anderson acceleration of the late steps (0: off): while a relaxation that ends on the
+  // equilibrium rule steps at its largest dt, each step's field is mixed with the last
+  // anderson_depth steps (cahn_hilliard/anderson.h), which speeds up the slow geometric modes.
+  int anderson_depth = 0;
   // The user asked for the fast mode (the default; finish_run_params sets the options it chooses
   // above) or for the paper-faithful algorithm of Section 4.4 (`--paper`: fast off, kPaperGrid).
   bool fast = true;

@@ -281,6 +281,20 @@ const std::vector<RunOption>& table() {
        .accepted = "0 (off) <= T < 1000",
        .fast = [](RunParams& p, bool) { p.equilibrium_tol = fast_equilibrium_tol(p.grid); },
        .optional_in_json = true},  // absent before 2026-11-27: off
+      {.key = "anderson_depth",
+       .cli = "--anderson-depth",
+       .help = "(fast) Anderson acceleration of the late time steps: once a relaxation that "
+               "ends on --equilibrium-tol steps at its largest dt, mix each step's field with "
+               "the last M steps, which speeds up the slow geometric modes (0: off, the "
+               "paper's plain steps; --fast uses 3)",
+       .unit = "steps",
+       .scope = S::kSolver,
+       .solver_group = true,
+       .ref = RunMember<int>([](RunParams& p) -> int& { return p.anderson_depth; }),
+       .range = closed(0, 8),
+       .accepted = "0 (off) <= M <= 8",
+       .fast = [](RunParams& p, bool) { p.anderson_depth = kFastAndersonDepth; },
+       .optional_in_json = true},  // absent before 2026-11-27: off
       {.key = "max_vcycles",
        .cli = "--max-vcycles",
        .help = "Limit on V-cycles per time step",

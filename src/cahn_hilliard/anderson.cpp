@@ -1,0 +1,234 @@
+#include "cahn_hilliard/anderson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace cmcsurf {
+
+namespace {
+
+constexpr int kMaxDepth = 8;
+// A residual this many times the last one means the mixing overshot (or the map changed):
+// start the history again from this step.
+constexpr double kRestartGrowth = 2.0;
+// Tikhonov term, relative to the mean diagonal of the normal equations: the columns become
+// nearly dependent as the slow modes take over.
+constexpr double kRegularization = 1e-10;
+
+// Solves (A + reg I) gamma = b for a small symmetric positive semi-definite A (m x m, row
+// major) by Gaussian elimination with partial pivoting; false when it is singular.
+bool solve_normal_equations(std::vector<double> a, std::vector<double> b, int m,
+                            std::vector<double>& gamma) {
+  double trace = 0.0;
+  for (int i = 0; i < m; ++i) trace += a[i * m + i];
+  if (!(trace > 0.0)) return false;
+  for (int i = 0; i < m; ++i) a[i * m + i] += kRegularization * trace / m;
+  for (int c = 0; c < m; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < m; ++r)
+      if (std::abs(a[r * m + c]) > std::abs(a[pivot * m + c])) pivot = r;
+    if (a[pivot * m + c] == 0.0) return false;
+    if (pivot != c) {
+      for (int k = 0; k < m; ++k) std::swap(a[c * m + k], a[pivot * m + k]);
+      std::swap(b[c], b[pivot]);
+    }
+    for (int r = c + 1; r < m; ++r) {
+      const double f = a[r * m + c] / a[c * m + c];
+      for (int k = c; k < m; ++k) a[r * m + k] -= f * a[c * m + k];
+      b[r] -= f * b[c];
+    }
+  }
+  gamma.assign(m, 0.0);
+  for (int r = m - 1; r >= 0; --r) {
+    double s = b[r];
+    for (int k = r + 1; k < m; ++k) s -= a[r * m + k] * gamma[k];
+    gamma[r] = s / a[r * m + r];
+  }
+  for (double v : gamma)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+}  // namespace
+
+AndersonMixer::AndersonMixer(int depth) : depth_(std::clamp(depth, 1, kMaxDepth)) {
+  dg_.resize(depth_);
+  df_.resize(depth_);
+  gram_.assign(std::size_t(depth_) * depth_, 0.0);
+  dg_mean_.assign(depth_, 0.0);
+}
+
+void AndersonMixer::reset() {
+  columns_ = 0;
+  newest_ = -1;
+  have_prev_ = false;
+}
+
+int AndersonMixer::mix(const Field& x, Field& g) {
+  CMCSURF_CHECK(x.size() == g.size());
+  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
+  const std::size_t cells = g.interior_size();
+  if (prev_g_.size() != cells) {
+    prev_g_.assign(cells, 0.0);
+    prev_f_.assign(cells, 0.0);
+    for (int s = 0; s < depth_; ++s) {
+      dg_[s].assign(cells, 0.0f);
+      df_[s].assign(cells, 0.0f);
+    }
+    reset();
+  }
+  const bool add_column = have_prev_;
+  const int slot = add_column ? (newest_ + 1) % depth_ : 0;
+  const int columns = add_column ? std::min(columns_ + 1, depth_) : 0;
+  // Ring slots of the columns after this step's, the new one last.
+  int order[kMaxDepth];
+  for (int c = 0; c < columns; ++c) order[c] = (slot - columns + 1 + c + depth_) % depth_;
+
+  // One pass: F = G - x, the new differences, |F|^2, dF_j . dF_new, dF_j . F and the sum of
+  // the new dG's float rounding.
+  constexpr int kSums = 2 * kMaxDepth + 2;
+  constexpr int kDgSum = kSums - 1;
+  double sums[kSums] = {};
+  float* dgn = dg_[slot].data();
+  float* dfn = df_[slot].data();
+  const float* cols[kMaxDepth];
+  for (int c = 0; c < columns; ++c) cols[c] = df_[order[c]].data();
+#pragma omp parallel for schedule(static) reduction(+ : sums[:kSums]) if (g.n() >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const double* xr = &x(0, j, k);
+      const double* gr = &g(0, j, k);
+      const std::size_t row = (std::size_t(k) * ny + j) * nx;
+      double* pg = prev_g_.data() + row;
+      double* pf = prev_f_.data() + row;
+      for (int i = 0; i < nx; ++i) {
+        const double f = gr[i] - xr[i];
+        sums[0] += f * f;
+        if (add_column) {
+          dfn[row + i] = float(f - pf[i]);
+          const double dg = gr[i] - pg[i];
+          dgn[row + i] = float(dg);
+          sums[kDgSum] += double(dgn[row + i]) - dg;
+          const double d = dfn[row + i];
+          for (int c = 0; c < columns; ++c) {
+            const double col = cols[c][row + i];
+            sums[1 + c] += col * d;
+            sums[1 + kMaxDepth + c] += col * f;
+          }
+        }
+        pf[i] = f;
+        pg[i] = gr[i];
+      }
+    }
+  g.sum_over_ranks(sums, kSums);
+  const double residual = std::sqrt(sums[0] / g.global_cells());
+  const double previous = last_residual_;
+  last_residual_ = residual;
+  const bool had_prev = have_prev_;
+  have_prev_ = true;
+  if (!add_column) return 0;
+  if (had_prev && residual > kRestartGrowth * previous) {  // the mixing did not pay
+    columns_ = 0;
+    newest_ = -1;
+    return 0;
+  }
+  newest_ = slot;
+  columns_ = columns;
+  dg_mean_[slot] = sums[kDgSum] / g.global_cells();
+  for (int c = 0; c < columns; ++c) {  // the new row and column of the Gram matrix
+    gram_[std::size_t(order[c]) * depth_ + slot] = sums[1 + c];
+    gram_[std::size_t(slot) * depth_ + order[c]] = sums[1 + c];
+  }
+  std::vector<double> a(std::size_t(columns) * columns), b(columns), gamma;
+  for (int r = 0; r < columns; ++r) {
+    b[r] = sums[1 + kMaxDepth + r];
+    for (int c = 0; c < columns; ++c)
+      a[std::size_t(r) * columns + c] = gram_[std::size_t(order[r]) * depth_ + order[c]];
+  }
+  if (!solve_normal_equations(a, b, columns, gamma)) return 0;
+  const float* gcols[kMaxDepth];
+  // The float rounding of the stored dG would move the mean of the mixed field (the mass,
+  // which the steps keep) by ~6e-8 of a difference; its mean is taken out again.
+  double shift = 0.0;
+  for (int c = 0; c < columns; ++c) {
+    gcols[c] = dg_[order[c]].data();
+    shift += gamma[c] * dg_mean_[order[c]];
+  }
+#pragma omp parallel for schedule(static) if (g.n() >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      double* gr = &g(0, j, k);
+      const std::size_t row = (std::size_t(k) * ny + j) * nx;
+      for (int i = 0; i < nx; ++i) {
+        double s = 0.0;
+        for (int c = 0; c < columns; ++c) s += gamma[c] * double(gcols[c][row + i]);
+        gr[i] -= s - shift;
+      }
+    }
+  return columns;
+}
+
+int AndersonMixerRef::mix(const Field& x, Field& g) {
+  std::vector<double> xv, gv;
+  for_each_cell(g, [&](int i, int j, int k) {
+    xv.push_back(x(i, j, k));
+    gv.push_back(g(i, j, k));
+  });
+  const std::size_t cells = gv.size();
+  auto residual_of = [&](std::size_t s) {
+    double sum = 0.0;
+    for (std::size_t c = 0; c < cells; ++c) sum += std::pow(gs_[s][c] - xs_[s][c], 2);
+    return std::sqrt(g.sum_over_ranks(sum) / g.global_cells());
+  };
+  xs_.push_back(xv);
+  gs_.push_back(gv);
+  const std::size_t last = xs_.size() - 1;
+  if (last >= 1 && residual_of(last) > kRestartGrowth * residual_of(last - 1)) {
+    xs_.erase(xs_.begin(), xs_.begin() + last);  // keep this step only
+    gs_.erase(gs_.begin(), gs_.begin() + last);
+    return 0;
+  }
+  if (int(xs_.size()) > depth_ + 1) {
+    xs_.erase(xs_.begin());
+    gs_.erase(gs_.begin());
+  }
+  const int m = int(xs_.size()) - 1;
+  if (m == 0) return 0;
+  // Columns j = 0..m-1: dF_j = F_{j+1} - F_j and dG_j = G_{j+1} - G_j, each rounded to float
+  // as the mixer stores them.
+  std::vector<std::vector<double>> df(m, std::vector<double>(cells)), dg = df;
+  for (int c = 0; c < m; ++c)
+    for (std::size_t i = 0; i < cells; ++i) {
+      df[c][i] = float((gs_[c + 1][i] - xs_[c + 1][i]) - (gs_[c][i] - xs_[c][i]));
+      dg[c][i] = float(gs_[c + 1][i] - gs_[c][i]);
+    }
+  std::vector<double> a(std::size_t(m) * m), b(m), gamma;
+  for (int r = 0; r < m; ++r) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < cells; ++i) s += df[r][i] * (gv[i] - xv[i]);
+    b[r] = g.sum_over_ranks(s);
+    for (int c = 0; c < m; ++c) {
+      double t = 0.0;
+      for (std::size_t i = 0; i < cells; ++i) t += df[r][i] * df[c][i];
+      a[std::size_t(r) * m + c] = g.sum_over_ranks(t);
+    }
+  }
+  if (!solve_normal_equations(a, b, m, gamma)) return 0;
+  double shift = 0.0;  // the mean of the float rounding of the dG, taken out again
+  for (int col = 0; col < m; ++col) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < cells; ++i) sum += dg[col][i] - (gs_[col + 1][i] - gs_[col][i]);
+    shift += gamma[col] * g.sum_over_ranks(sum) / g.global_cells();
+  }
+  std::size_t c = 0;
+  for_each_cell(g, [&](int i, int j, int k) {
+    double s = 0.0;
+    for (int col = 0; col < m; ++col) s += gamma[col] * dg[col][c];
+    g(i, j, k) -= s - shift;
+    ++c;
+  });
+  return m;
+}
+
+}  // namespace cmcsurf

@@ -1,0 +1,62 @@
+// Anderson acceleration of the time-step map phi^n -> phi^{n+1} at a fixed dt.
+//
+// Once dt stops growing, the late steps of a relaxation are a fixed-point iteration
+// x_{k+1} = G(x_k) whose slowest (geometric) modes decay by only about 0.9 per step. Anderson
+// mixing (type II, depth m) replaces G(x_k) by G(x_k) - sum_j gamma_j dG_j, where dG_j and dF_j
+// are the differences of the last m values of G and of the residual F = G(x) - x, and gamma
+// minimises |F_k - sum_j gamma_j dF_j| (least squares over the grid). Every term is a
+// difference of time steps, each of which conserves mass, so the mixed field keeps the mass.
+// The translation modes of a periodic surface have F = 0 to first order, so the mixing does
+// not move along them.
+//
+// The differences are stored in float (each is formed in double before it is rounded, so it
+// keeps 7 digits of itself, not of phi): 16 + 8 m bytes per cell with the double G and F of
+// the last step. The mean of each dG's float rounding is taken out of the mixing, so that
+// it keeps the mass to round-off, not to the float rounding.
+#pragma once
+
+#include <vector>
+
+#include "grid/field.h"
+
+namespace cmcsurf {
+
+class AndersonMixer {
+ public:
+  explicit AndersonMixer(int depth);
+  int depth() const { return depth_; }
+  // Forgets the history (dt changed, a relaxation starts, the last mixing did not pay).
+  void reset();
+  // x: the field the last step started from, g = G(x): the field it produced (interiors).
+  // Replaces the interior of g by the mixed next iterate (the caller exchanges g's halo).
+  // Returns the number of history columns used (0: g is left as it was).
+  int mix(const Field& x, Field& g);
+  // |F_k| of the last mix (root mean square over the cells).
+  double last_residual() const { return last_residual_; }
+
+ private:
+  int depth_;
+  int columns_ = 0;  // valid history columns (<= depth_)
+  int newest_ = -1;  // ring index of the newest column
+  bool have_prev_ = false;
+  std::vector<double> prev_g_, prev_f_;          // G and F of the last step
+  std::vector<std::vector<float>> dg_, df_;      // ring of differences
+  std::vector<double> gram_;                     // dF_i . dF_j, depth x depth (ring indices)
+  std::vector<double> dg_mean_;                  // mean of each stored dG's float rounding
+  double last_residual_ = 0.0;
+  double prev_residual_ = 0.0;
+};
+
+// The same mixing with every vector in double and written with plain loops (the test twin).
+class AndersonMixerRef {
+ public:
+  explicit AndersonMixerRef(int depth) : depth_(depth) {}
+  void reset() { xs_.clear(), gs_.clear(); }
+  int mix(const Field& x, Field& g);
+
+ private:
+  int depth_;
+  std::vector<std::vector<double>> xs_, gs_;  // the last depth + 1 inputs and outputs
+};
+
+}  // namespace cmcsurf
