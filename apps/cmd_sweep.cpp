@@ -300,6 +300,7 @@ CommandFn add_sweep_command(CLI::App& root) {
                   "start:stop:step (stop included) or a list a,b,c; each in (0, 1)")
       ->capture_default_str();
   add_run_options(*app, cmd->params, cmd->strings, false);
+  add_run_option(*app, cmd->params, cmd->strings, "structure");  // each member's seed
   app->add_flag("--continuation", cmd->continuation,
                 "Start each member from the previous member's field shifted to the new mean, "
                 "instead of the nodal formula");

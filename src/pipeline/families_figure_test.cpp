@@ -67,7 +67,7 @@ TEST(FamiliesFigure, DrawsTheSharpPointsWithTheirErrorBars) {
 TEST(FamiliesFigure, DiffuseValuesOnlyOnRequest) {
   const std::vector<nlohmann::json> reports = family("G");
   const FamiliesFigure plain = families_figure(reports, {});
-  const FamiliesFigure diffuse = families_figure(reports, {.diffuse = true});
+  const FamiliesFigure diffuse = families_figure(reports, {.title = "", .diffuse = true});
   ASSERT_FALSE(plain.image.rgb.empty());
   ASSERT_FALSE(diffuse.image.rgb.empty());
   // The ring of radius 3 around the diffuse area of the middle member, in the second figure's
