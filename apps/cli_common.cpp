@@ -52,31 +52,49 @@ std::function<std::string(const std::string&)> library_check(std::string (*check
 
 }  // namespace
 
+namespace {
+
+// One entry of the run option table as a CLI11 option (under `solver` if it is of that group).
+void add_entry(CLI::App& app, CLI::App*& solver, const RunOption& o, RunParams& p,
+               RunOptionStrings& s) {
+  if (o.solver_group && solver == nullptr)
+    solver = app.add_option_group("solver", "Multigrid and algorithm details");
+  CLI::App& to = o.solver_group ? *solver : app;
+  CLI::Option* added = std::visit(
+      [&](const auto& ref) -> CLI::Option* {
+        using R = std::decay_t<decltype(ref)>;
+        if constexpr (std::is_same_v<R, RunChoice>) {
+          std::string& text = s.choices.text[o.key];
+          text = ref.names.at(ref.get(p));
+          return to.add_option(o.cli, text, o.help)->capture_default_str();
+        } else if constexpr (std::is_same_v<R, RunMember<bool>>) {
+          return to.add_flag(o.cli, ref(p), o.help);
+        } else {
+          CLI::Option* opt = to.add_option(o.cli, ref(p), o.help);
+          if (o.integer_check != nullptr) opt->check(library_check(o.integer_check));
+          return opt->capture_default_str();
+        }
+      },
+      o.ref);
+  s.options.emplace_back(&o, added);
+}
+
+}  // namespace
+
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface) {
   CLI::App* solver = nullptr;  // the "solver" heading, made where its first option comes
   for (const RunOption& o : run_option_table()) {
     if (*o.cli == '\0' || (o.scope == RunOptionScope::kSurface && !with_surface)) continue;
-    if (o.solver_group && solver == nullptr)
-      solver = app.add_option_group("solver", "Multigrid and algorithm details");
-    CLI::App& to = o.solver_group ? *solver : app;
-    CLI::Option* added = std::visit(
-        [&](const auto& ref) -> CLI::Option* {
-          using R = std::decay_t<decltype(ref)>;
-          if constexpr (std::is_same_v<R, RunChoice>) {
-            std::string& text = s.choices.text[o.key];
-            text = ref.names.at(ref.get(p));
-            return to.add_option(o.cli, text, o.help)->capture_default_str();
-          } else if constexpr (std::is_same_v<R, RunMember<bool>>) {
-            return to.add_flag(o.cli, ref(p), o.help);
-          } else {
-            CLI::Option* opt = to.add_option(o.cli, ref(p), o.help);
-            if (o.integer_check != nullptr) opt->check(library_check(o.integer_check));
-            return opt->capture_default_str();
-          }
-        },
-        o.ref);
-    s.options.emplace_back(&o, added);
+    add_entry(app, solver, o, p, s);
   }
+}
+
+void add_run_option(CLI::App& app, RunParams& p, RunOptionStrings& s, const std::string& key) {
+  const RunOption* o = find_run_option(key);
+  if (o == nullptr || *o->cli == '\0' || o->solver_group)
+    throw std::logic_error("add_run_option: no command-line option " + key);
+  CLI::App* solver = nullptr;
+  add_entry(app, solver, *o, p, s);
 }
 
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface) {

@@ -36,6 +36,9 @@ struct RunOptionStrings {
 };
 // What --fast selects: each table entry's `fast` (pipeline/run_schema.cpp).
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
+// One more entry of the table, by key, where a command takes it beside add_run_options's
+// (sweep's --structure); not of the solver group.
+void add_run_option(CLI::App& app, RunParams& p, RunOptionStrings& s, const std::string& key);
 // Converts the names and checks every range (finish_run_params); throws UsageError.
 void finish_run_options(RunParams& p, const RunOptionStrings& s, bool check_surface);
 

@@ -31,7 +31,8 @@ int run_main(int argc, char** argv) {
                                      add_verify_command(app),   add_surfaces_command(app),
                                      add_report_command(app),   add_scaffold_command(app),
                                      add_properties_command(app), add_scattering_command(app),
-                                     add_volume_mesh_command(app), add_schema_command(app)};
+                                     add_volume_mesh_command(app), add_schema_command(app),
+                                     add_merge_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

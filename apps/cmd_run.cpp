@@ -25,6 +25,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
+#include "pipeline/run_finish.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/sweep.h"
 #include "page_options.h"
@@ -241,7 +242,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
   const FolderClaim claim = claim_folder(
       dir, {.kind = "run", .option = resuming ? "--resume" : "--out", .force = cmd.force}, *world);
   if (resuming) {
-    LoadedCheckpoint loaded = load_checkpoint(dir, RunEntry::kCmc, world);
+    LoadedCheckpoint loaded =
+        as_usage([&] { return load_checkpoint(dir, RunEntry::kCmc, world); });
     p = resumed_params(cmd.strings, p, loaded.params, dir / kCheckpointFileName);
     restore_output_options(cmd, app, loaded.outputs, dir / kCheckpointFileName);
     finish_properties_options(cmd.properties, p.surface, p.grid);  // the resumed grid's
@@ -263,7 +265,8 @@ int run(RunCommand& cmd, const CLI::App& app) {
   SignalGuard signals;
   const int threads = apply_threads(cmd.threads);
   cmd.threads = threads;  // the count in use, for the checkpoints
-  CheckpointSink sink(dir, p, output_options(cmd), cmd.checkpoints.every, world);
+  CheckpointSink sink =
+      signal_checkpoint_sink(dir, p, output_options(cmd), cmd.checkpoints.every, world);
   sink.attach(context);
   if (!cmd.quiet)
     std::cerr << fmt::format(
@@ -293,55 +296,21 @@ int run(RunCommand& cmd, const CLI::App& app) {
     // grid (docs/scaling.md, "Output").
     RunOutputs outputs = run_outputs(r.phi, p, r, std::move(cache), !cmd.pages.no_preview,
                                      !cmd.pages.no_report);
-    const CmcQuality& quality = outputs.quality;
-    std::optional<RunPreview>& preview = outputs.preview;
     nlohmann::json extra;
     extra["checkpoints_written"] = sink.written();
     extra["checkpoint_seconds"] = sink.seconds();
     if (resume) extra["resumed_from_step"] = resume->step;
-    if (preview) extra["preview_seconds"] = preview->seconds;
-    if (outputs.page) extra["page_seconds"] = outputs.page_seconds;
-    PropertiesPicture youngs;  // youngs_modulus.png, drawn before the writes
-    if (cmd.properties.stage.enabled) {  // the stage's solid (docs/properties.md)
-      extra.update(run_properties_keys(r.phi, p.surface, cmd.properties.stage));
-      if (!cmd.pages.no_preview) {
-        youngs = youngs_modulus_picture(extra["properties"],
-                                        properties_title(p.surface, extra["properties"]));
-        if (!youngs.image.rgb.empty()) extra["youngs_picture_seconds"] = youngs.seconds;
-      }
-    }
-    // --mesh: the surface mesh, computed before the writes (rank 0 gets it under MPI).
-    std::optional<Scaffold> surface;
-    if (!cmd.mesh_format.empty()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      surface = distributed_surface_scaffold(r.phi, ScaffoldParams{});
-      extra["surface_mesh_seconds"] =
-          seconds_since(t0);
-    }
-    double field_seconds = 0.0;
-    if (world->distributed()) {
-      field_seconds = write_run_field_pieces(dir, p, r, quality, threads, cmd.float32, extra);
-      // Every process's peak resident memory (the report's peak_memory_bytes is rank 0's).
-      const std::vector<std::uint64_t> peaks = allgather_world({peak_memory_bytes()});
-      extra["peak_memory_bytes_per_rank"] = peaks;
-      extra["peak_memory_bytes_max_rank"] = *std::max_element(peaks.begin(), peaks.end());
-      extra.update(decomposition_json(*world));  // io/run_folder.h; after the last collective
-      if (world->rank() != 0) return 0;
-    } else {
-      extra.update(decomposition_json(*world));
-    }
-    const RunFieldSource field = world->distributed()
-                                     ? RunFieldSource(FieldPiecesWritten{field_seconds})
-                                     : RunFieldSource(std::cref(r.phi));
-    const nlohmann::json report = write_run_folder(
-        dir, p, r, field, quality, threads, cmd.float32, extra,
-        [&](const nlohmann::json& report_to_be) {
-          if (surface) write_run_surface_mesh(dir, *surface, cmd.mesh_format);
-          if (preview) write_png(dir / "preview.png", preview->image);
-          if (!youngs.image.rgb.empty()) write_png(dir / kYoungsPictureName, youngs.image);
-          if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
-        });
-    remove_checkpoint(dir / kCheckpointFileName);  // the run is complete (rank 0 only here)
+    RunFolderOptions o;
+    o.threads = threads;
+    o.float32 = cmd.float32;
+    o.pictures = !cmd.pages.no_preview;
+    o.mesh_format = cmd.mesh_format;
+    o.properties = cmd.properties.stage;
+    o.layout = world.get();
+    const FinishedRun finished = finish_run_folder(dir, p, r, outputs, o, std::move(extra));
+    if (!finished.writer) return 0;
+    const CmcQuality& quality = outputs.quality;
+    const nlohmann::json& report = finished.report;
     if (!cmd.quiet) print_summary(p, r, quality, report, dir);
     print_warnings(p, r);
   } catch (const std::exception&) {

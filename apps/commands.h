@@ -13,6 +13,7 @@ CommandFn add_run_command(CLI::App& root);
 CommandFn add_verify_command(CLI::App& root);
 CommandFn add_surfaces_command(CLI::App& root);
 CommandFn add_sweep_command(CLI::App& root);   // apps/cmd_sweep.cpp
+CommandFn add_merge_command(CLI::App& root);   // apps/cmd_merge.cpp
 CommandFn add_mesh_command(CLI::App& root);    // apps/cmd_mesh.cpp
 CommandFn add_graded_command(CLI::App& root);  // apps/cmd_graded.cpp
 CommandFn add_report_command(CLI::App& root);  // apps/cmd_report.cpp

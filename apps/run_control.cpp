@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <fstream>
@@ -15,6 +14,7 @@
 #include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
+#include "schema/report_schema.h"
 
 namespace cmcsurf::cli {
 
@@ -35,11 +35,6 @@ extern "C" void on_stop_signal(int sig) {
 
 struct sigaction g_previous[2];
 constexpr int kSignals[2] = {SIGINT, SIGTERM};
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
@@ -92,38 +87,13 @@ void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with
         ->check(non_empty_text(), "DIR");
 }
 
-CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, nlohmann::json outputs,
-                               double every, std::shared_ptr<const Decomposition> world)
-    : dir_(std::move(dir)),
-      params_(params_json(params)),
-      outputs_(std::move(outputs)),
-      every_(every),
-      world_(std::move(world)),
-      last_(now_seconds()) {}
-
-void CheckpointSink::attach(RunContext& context) {
-  context.control = [this] {
-    int code = g_signal != 0 ? 2 : (every_ > 0.0 && now_seconds() - last_ >= every_ ? 1 : 0);
-    if (world_ && world_->distributed()) code = int(world_->max(double(code)));  // one decision
-    return code == 2 ? RunControl::kStop : code == 1 ? RunControl::kCheckpoint
-                                                     : RunControl::kContinue;
-  };
-  context.checkpoint = [this](const Checkpoint& c) {
-    try {
-      write(c);
-    } catch (const std::exception& e) {
-      if (!warned_)
-        std::cerr << fmt::format("\nwarning: no checkpoint written ({}); the run goes on\n",
-                                 e.what());
-      warned_ = true;
-    }
-    last_ = now_seconds();
-  };
-}
-
-void CheckpointSink::retarget(fs::path dir, const RunParams& params) {
-  dir_ = std::move(dir);
-  params_ = params_json(params);
+CheckpointSink signal_checkpoint_sink(fs::path dir, const RunParams& params,
+                                      nlohmann::json outputs, double every,
+                                      std::shared_ptr<const Decomposition> world) {
+  return CheckpointSink(
+      std::move(dir), params, std::move(outputs), every, std::move(world),
+      [] { return g_signal != 0; },
+      [](const std::string& why) { std::cerr << fmt::format("\nwarning: {}\n", why); });
 }
 
 std::string self_executable() {
@@ -143,100 +113,30 @@ nlohmann::json read_json_file(const fs::path& path) {
   }
 }
 
-void CheckpointSink::write(const Checkpoint& c) {
-  const double t0 = now_seconds();
-  if (world_ && world_->distributed() && !c.result.phi.decomposition()) {
-    // Fields every process holds whole (a grid the run does not split): rank 0 writes them.
-    if (world_->rank() == 0) write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
-  } else {
-    // Whole grids: one file (format 4); blocks: every process writes its own piece (format 5,
-    // collective), so that no process holds the whole grid (io/checkpoint.h).
-    write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
+std::string stop_signal_name() { return signal_name(SignalGuard::received()); }
+
+int print_interrupted(const fs::path& dir, const Checkpoint& c, const InterruptedRun& left,
+                      const std::string& resume_command, bool quiet) {
+  if (!left.failure.empty()) {
+    std::cerr << fmt::format("\nerror: interrupted at step {}, but no checkpoint was written: {}\n",
+                             c.step, left.failure);
+    return kExitFailure;
   }
-  ++written_;
-  seconds_ += now_seconds() - t0;
+  if (left.root && !quiet)
+    std::cerr << fmt::format(
+        "\ninterrupted by {} before step {} ({} on {}^3, {:.1f} s of work kept in {})\n"
+        "resume with: {}\n",
+        signal_name(SignalGuard::received()), c.step + 1, run_stage_name(c.cursor.stage), c.cursor.grid,
+        c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
+  return SignalGuard::exit_code();
 }
 
 int finish_interrupted(const fs::path& dir, const RunParams& params, RunInterrupted& stop,
                        CheckpointSink& sink, int threads, const std::string& resume_command,
                        bool quiet, const nlohmann::json& extra) {
-  Checkpoint& c = stop.checkpoint;
-  const bool root = !c.result.phi.decomposition() || c.result.phi.decomposition()->rank() == 0;
-  std::string failed;
-  try {
-    sink.write(c);
-  } catch (const std::exception& e) {
-    failed = e.what();
-  }
-  // The report of the field so far (on the stage's grid, which is coarser than --grid while
-  // a continuation works on a coarse level).
-  RunResult& r = c.result;
-  r.final = measure_field(r.phi, params.epsilon);
-  r.stop_reason = "interrupted";
-  r.converged = false;
-  if (root) {
-    nlohmann::json report = run_report(params, r, threads);
-    report["stop_reason"] = "interrupted";
-    report["checkpoint"] = {{"file", failed.empty() ? kCheckpointFileName : ""},
-                            {"step", c.step},
-                            {"stage", run_stage_name(c.cursor.stage)},
-                            {"grid", c.cursor.grid},
-                            {"signal", signal_name(SignalGuard::received())}};
-    report["checkpoints_written"] = sink.written();
-    report["checkpoint_seconds"] = sink.seconds();
-    report["resume"] = resume_command;
-    for (const auto& [key, value] : extra.items()) report[key] = value;
-    write_history_csv(dir / "history.csv", r.history);
-    write_json_atomic(dir / "report.json", report);
-  }
-  if (!failed.empty()) {
-    std::cerr << fmt::format("\nerror: interrupted at step {}, but no checkpoint was written: {}\n",
-                             c.step, failed);
-    return kExitFailure;
-  }
-  if (root && !quiet)
-    std::cerr << fmt::format(
-        "\ninterrupted by {} before step {} ({} on {}^3, {:.1f} s of work kept in {})\n"
-        "resume with: {}\n",
-        signal_name(SignalGuard::received()), c.step + 1, run_stage_name(c.cursor.stage),
-        c.cursor.grid, c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
-  return SignalGuard::exit_code();
-}
-
-LoadedCheckpoint load_checkpoint(const fs::path& dir, RunEntry entry,
-                                 const std::shared_ptr<const Decomposition>& world) {
-  const fs::path file = dir / kCheckpointFileName;
-  // Under a decomposition every process reads only its blocks (of the file, or of the pieces
-  // that hold them), so the processes may see different errors: they agree on the first.
-  const bool split = world && world->distributed();
-  CheckpointReadOptions options;
-  if (split) options.decomposition = world;
-  CheckpointFile f;
-  std::string error;
-  try {
-    f = read_checkpoint(file, options);
-  } catch (const CheckpointError& e) {
-    error = e.what();
-  }
-  if (split) error = world->first_error(error);
-  if (!error.empty()) throw UsageError(fmt::format("--resume: {}", error));
-  // The run of these parameters must pass through the checkpoint's grid and stage, on this
-  // many processes (the fields are empty where that grid does not split).
-  const std::string problem = resume_problem(f.checkpoint, params_from_json(f.params), entry,
-                                             split ? world.get() : nullptr);
-  if (!problem.empty())
-    throw UsageError(fmt::format("--resume: {}: a run with its parameters cannot continue it{}: {}",
-                                 file.string(),
-                                 split ? fmt::format(" on {} processes", world->ranks()) : "",
-                                 problem));
-  LoadedCheckpoint loaded{std::move(f.params), std::move(f.outputs), nullptr};
-  auto c = std::make_shared<Checkpoint>(std::move(f.checkpoint));
-  if (split) {  // the blocks were read interior only
-    for (Field* x : {&c->result.phi, &c->stepper.nu, &c->stepper.prev_phi, &c->stepper.prev_nu})
-      if (x->n() != 0) x->exchange_halo();
-  }
-  loaded.checkpoint = std::move(c);
-  return loaded;
+  const InterruptedRun left = write_interrupted_run(dir, params, stop, sink, threads,
+                                                    resume_command, stop_signal_name(), extra);
+  return print_interrupted(dir, stop.checkpoint, left, resume_command, quiet);
 }
 
 void OutputRestorer::throw_bad(const char* key) const {
@@ -299,30 +199,18 @@ void remove_leftover_temporaries(const fs::path& dir, bool quiet) {
 
 RunParams resumed_params(const RunOptionStrings& options, const RunParams& given,
                          const nlohmann::json& saved, const fs::path& file) {
-  RunParams p;
-  try {
-    p = params_from_json(saved);
-  } catch (const std::exception& e) {
-    throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
-  }
   // Every option add_run_options made, compared by its key (whatever its CLI name).
   auto cli = [&](const RunOption& o) -> const CLI::Option* {
     for (const auto& [entry, option] : options.options)
       if (entry == &o) return option;
     return nullptr;
   };
-  const RunOption* o = changed_run_option(given, p, [&](const RunOption& e) {
-    return cli(e) != nullptr && cli(e)->count() > 0;
+  return as_usage([&] {
+    return resumed_run_params(
+        given, saved, file,
+        [&](const RunOption& e) { return cli(e) != nullptr && cli(e)->count() > 0; },
+        [&](const RunOption& e) { return "--" + cli(e)->get_lnames().front(); });
   });
-  if (o != nullptr) {
-    const nlohmann::json mine = params_json(given), theirs = params_json(p);
-    throw UsageError(fmt::format(
-        "--{} {}: {} was written by a run with {} {}; a resumed run keeps the parameters it "
-        "started with (leave the option out, or start a new run with another --out)",
-        cli(*o)->get_lnames().front(), mine[o->key].dump(), file.string(), o->key,
-        theirs[o->key].dump()));
-  }
-  return p;
 }
 
 }  // namespace cmcsurf::cli

@@ -16,6 +16,7 @@
 #include "io/run_report.h"
 #include "parallel/decomposition.h"
 #include "pipeline/cmc.h"
+#include "pipeline/run_resume.h"
 
 namespace cmcsurf::cli {
 
@@ -42,56 +43,35 @@ struct CheckpointOptions {
 };
 void add_checkpoint_options(CLI::App& app, CheckpointOptions& options, bool with_resume);
 
-// The RunContext hooks of a run writing into dir: control() asks for a checkpoint every
-// `every` seconds and stops on a signal (one decision for all processes under MPI), and
-// checkpoint() writes dir/checkpoint.bin (every process its blocks under a decomposition:
-// io/checkpoint.h, format 5). A failed write is a warning: the run goes on.
-class CheckpointSink {
- public:
-  // `outputs`: the run's output options, kept in the checkpoint so that --resume writes the
-  // folder the uninterrupted run would have written.
-  CheckpointSink(std::filesystem::path dir, const RunParams& params, nlohmann::json outputs,
-                 double every, std::shared_ptr<const Decomposition> world);
-  void attach(RunContext& context);
-  // The next checkpoints go to another folder, of a run with other parameters (a sweep's
-  // members).
-  void retarget(std::filesystem::path dir, const RunParams& params);
-  // Writes dir/checkpoint.bin now (the interrupted run's state); throws on failure.
-  void write(const Checkpoint& c);
-  int written() const { return written_; }
-  double seconds() const { return seconds_; }  // spent writing checkpoints
+// A CheckpointSink (pipeline/run_resume.h) that stops on SIGINT/SIGTERM and warns on stderr.
+CheckpointSink signal_checkpoint_sink(std::filesystem::path dir, const RunParams& params,
+                                      nlohmann::json outputs, double every,
+                                      std::shared_ptr<const Decomposition> world);
 
- private:
-  std::filesystem::path dir_;
-  nlohmann::json params_;
-  nlohmann::json outputs_;
-  double every_;
-  std::shared_ptr<const Decomposition> world_;
-  double last_ = 0.0;  // steady-clock seconds of the start or the last checkpoint
-  int written_ = 0;
-  double seconds_ = 0.0;
-  bool warned_ = false;
-};
+// Calls f, turning the library's OptionError (pipeline/run_options.h) into a UsageError.
+template <class F>
+auto as_usage(F&& f) {
+  try {
+    return f();
+  } catch (const OptionError& e) {
+    throw UsageError(e.what());
+  }
+}
 
-// What an interrupted run leaves (rank 0 writes; every process measures): checkpoint.bin,
-// history.csv and a report.json marked "stop_reason": "interrupted" with the measures of the
-// field so far and how to resume. Prints the resume command; returns the exit code.
+// What an interrupted run leaves (write_interrupted_run, pipeline/run_resume.h), said as
+// print_interrupted says it; returns the exit code.
 int finish_interrupted(const std::filesystem::path& dir, const RunParams& params,
                        RunInterrupted& stop, CheckpointSink& sink, int threads,
                        const std::string& resume_command, bool quiet,
                        const nlohmann::json& extra = {});
 
-// dir/checkpoint.bin for `run --resume dir` or a sweep member: read, checked against the run
-// that continues it (`entry` with the checkpoint's own parameters, on `world`: resume_problem),
-// and, under a decomposition, only this process's blocks of the fields read (collective: the
-// processes agree on errors). Any problem is a UsageError naming the file.
-struct LoadedCheckpoint {
-  nlohmann::json params;   // params_json of the run, in range
-  nlohmann::json outputs;  // the output options it was started with (an object)
-  std::shared_ptr<const Checkpoint> checkpoint;
-};
-LoadedCheckpoint load_checkpoint(const std::filesystem::path& dir, RunEntry entry,
-                                 const std::shared_ptr<const Decomposition>& world);
+// The name of the signal received, as an interrupted report.json names it.
+std::string stop_signal_name();
+
+// What an interrupted run left, said on stderr (the error when no checkpoint was written);
+// returns the exit code.
+int print_interrupted(const std::filesystem::path& dir, const Checkpoint& c,
+                      const InterruptedRun& left, const std::string& resume_command, bool quiet);
 
 // Output options kept for a resume (a checkpoint's or sweep.json's "outputs"): each one the
 // command line did not give takes the saved value. `restore(option, key, value)` does one;

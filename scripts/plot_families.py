@@ -1,33 +1,37 @@
 #!/usr/bin/env python3
-"""Fig. 11 of the paper from a `cmcsurf sweep` table.
+"""Fig. 11 of the paper from a `cmcsurf sweep` folder, with matplotlib: a user's script.
 
 usage: plot_families.py SWEEP_CSV OUT_PREFIX   -> OUT_PREFIX.png and OUT_PREFIX.svg
 
-(a) mean curvature vs volume fraction, (b) area per unit cell vs volume fraction, one curve per
-surface family: the surface's own values (report keys `area`, `mean_curvature`, the sharp
-estimators), with the diffuse layer's (Appendix B: `area_diffuse`) dotted beside them where the
-table has them; (b) also shows the spheres-cylinders-planes profile I_scp(V) of Section 2.3 at
-V = min(alpha, 1 - alpha) (the smaller phase: I_scp is defined for the enclosed volume V in
-(0, pi/6), and the enclosing surface of a phase is also that of its complement), and the
-literature areas of the P, D and G minimal surfaces at alpha = 1/2.
-Exit code 3 when matplotlib is missing (cmcsurf sweep turns that into a warning).
+`cmcsurf sweep` draws families.png itself (docs/families.md); this script is for figures a
+user restyles. (a) mean curvature vs volume fraction, (b) area per computed cell vs volume
+fraction, one curve per surface family: the sharp values (`area`, `mean_curvature`) with their
+error bars (`area_error`, `mean_curvature_error`), the diffuse layer's (`area_diffuse`) dotted
+beside them. The literature constants (the minimal surfaces' areas, the I_scp profile of
+Section 2.3) are not written here: they are read from sweep.json's "literature" beside
+SWEEP_CSV, which cmcsurf writes from measure/literature.h.
+Exit code 3 when matplotlib is missing, 1 when sweep.json has no "literature".
 """
 import csv
-import math
+import json
 import os
 import sys
 
-# Area per unit cubic cell of the minimal surfaces (see docs/families.md for the sources).
-MINIMAL_AREA = {"P": 2.3451, "D": 3.8377, "G": 3.0919}
+
+def read_literature(csv_path):
+    """sweep.json's "literature" beside the table: {surface: area} and the I_scp samples."""
+    path = os.path.join(os.path.dirname(os.path.abspath(csv_path)), "sweep.json")
+    with open(path) as f:
+        lit = json.load(f)["literature"]
+    areas = {k: v["area"] for k, v in lit["minimal_surface_areas"].items()}
+    return areas, lit["i_scp"]["volume_fraction"], lit["i_scp"]["area"]
 
 
-def i_scp(v):
-    """Section 2.3: least area of spheres, cylinders and plane pairs enclosing volume v."""
-    if v <= 4 * math.pi / 81:
-        return (36 * math.pi * v * v) ** (1 / 3)
-    if v <= 1 / math.pi:
-        return 2 * math.sqrt(math.pi * v)
-    return 2.0
+def number(r, key):
+    try:
+        return float(r[key]) if r.get(key) else float("nan")
+    except ValueError:
+        return float("nan")
 
 
 def read_rows(path):
@@ -37,9 +41,9 @@ def read_rows(path):
     for r in rows:
         try:
             a = float(r["volume_fraction_target"])
-            iso = float(r["area_diffuse"]) if r.get("area_diffuse") else float("nan")
             families.setdefault(r["surface"], []).append(
-                (a, float(r["mean_curvature"]), float(r["area"]), iso))
+                (a, float(r["mean_curvature"]), float(r["area"]), number(r, "area_diffuse"),
+                 number(r, "mean_curvature_error"), number(r, "area_error")))
         except (KeyError, ValueError):
             continue
     for v in families.values():
@@ -58,6 +62,12 @@ def main():
     except ImportError:
         print("plot_families.py: matplotlib is not installed", file=sys.stderr)
         return 3
+    try:
+        minimal_area, scp_alpha, scp_area = read_literature(sys.argv[1])
+    except (OSError, KeyError, ValueError) as e:
+        print(f"plot_families.py: no literature constants in the sweep.json beside "
+              f"{sys.argv[1]} ({e}); rerun the sweep with this cmcsurf", file=sys.stderr)
+        return 1
     families = read_rows(sys.argv[1])
     if not families:
         print(f"plot_families.py: no rows in {sys.argv[1]}", file=sys.stderr)
@@ -71,28 +81,30 @@ def main():
         a = [p[0] for p in pts]
         alphas += a
         label = name if len(name) <= 24 else name[:21] + "..."
-        ax_h.plot(a, [p[1] for p in pts], marker=markers[i % len(markers)], ms=4, label=label)
-        line, = ax_a.plot(a, [p[2] for p in pts], marker=markers[i % len(markers)], ms=4,
-                          label=label)
+        err = [0 if p[4] != p[4] else p[4] for p in pts]
+        ax_h.errorbar(a, [p[1] for p in pts], yerr=err, marker=markers[i % len(markers)], ms=4,
+                      capsize=2, label=label)
+        err = [0 if p[5] != p[5] else p[5] for p in pts]
+        line = ax_a.errorbar(a, [p[2] for p in pts], yerr=err, marker=markers[i % len(markers)],
+                             ms=4, capsize=2, label=label).lines[0]
         if any(p[3] == p[3] for p in pts):  # diffuse-layer area, where the table has it
             ax_a.plot(a, [p[3] for p in pts], ls=":", lw=1, color=line.get_color(),
                       label=f"{label} (diffuse layer, Appendix B)")
-        if name in MINIMAL_AREA:
-            ax_a.plot([0.5], [MINIMAL_AREA[name]], marker="x", color="k", ms=7, ls="none",
+        if name in minimal_area:
+            ax_a.plot([0.5], [minimal_area[name]], marker="x", color="k", ms=7, ls="none",
                       label="minimal surface (literature)" if i == 0 or not any(
-                          n in MINIMAL_AREA for n in list(families)[:i]) else None)
+                          n in minimal_area for n in list(families)[:i]) else None)
     lo, hi = min(alphas), max(alphas)
     pad = max(0.02, 0.05 * (hi - lo))
-    xs = [lo - pad + (hi - lo + 2 * pad) * k / 400 for k in range(401)]
-    xs = [x for x in xs if 0 < x < 1]
-    ax_a.plot(xs, [i_scp(min(x, 1 - x)) for x in xs], "k--", lw=1,
+    xs = [(x, y) for x, y in zip(scp_alpha, scp_area) if lo - pad <= x <= hi + pad]
+    ax_a.plot([x for x, _ in xs], [y for _, y in xs], "k--", lw=1,
               label=r"$I_{scp}(\min(\alpha, 1-\alpha))$")
     ax_h.axhline(0.0, color="0.6", lw=0.6)
     ax_h.set_xlabel(r"volume fraction $\alpha$")
-    ax_h.set_ylabel("mean curvature H (unit cell = 1)")
+    ax_h.set_ylabel("mean curvature H a (computed cell, a = 1)")
     ax_h.set_title("(a) mean curvature", loc="left")
     ax_a.set_xlabel(r"volume fraction $\alpha$")
-    ax_a.set_ylabel("area per unit cell")
+    ax_a.set_ylabel("area A per computed cell (a = 1)")
     ax_a.set_title("(b) surface area", loc="left")
     for ax in (ax_h, ax_a):
         ax.grid(True, lw=0.3, alpha=0.5)

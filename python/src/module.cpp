@@ -49,6 +49,7 @@
 #include "pipeline/preview.h"
 #include "pipeline/run_options.h"
 #include "pipeline/run_schema.h"
+#include "pipeline/run_finish.h"
 #include "schema/report_schema.h"
 #include "pipeline/run_outputs.h"
 #include "pipeline/run_page.h"
@@ -589,28 +590,14 @@ struct Result {
         if (e.usage()) throw py::value_error(e.what());
         throw;
       }
-      std::optional<RunPreview> picture;
-      nlohmann::json x = extra;
-      std::optional<Field> psi;
-      if (preview || page) psi = profile_inverse(result.phi);
-      if (preview) {
-        picture = make_run_preview(*psi, params, result, quality);
-        x["preview_seconds"] = picture->seconds;
-      }
-      std::optional<PreviewSurfaces> page_surfaces;
-      if (page) {
-        const auto t0 = std::chrono::steady_clock::now();
-        page_surfaces = preview_surfaces(*psi, params.surface, quality.nodal_level,
-                                         result.final.mean_curvature, kPageCells,
-                                         quality.has_nodal);
-        x["page_seconds"] =
-            seconds_since(t0);
-      }
-      write_run_folder(dir, params, result, std::cref(result.phi), quality, threads, float32, x,
-                       [&](const nlohmann::json& report_to_be) {
-                         if (picture) write_png(dir / "preview.png", picture->image);
-                         if (page) write_run_page(dir, &*page_surfaces, &report_to_be);
-                       });
+      // The pictures of the quality stage that ran with the run, then the folder as the
+      // command line finishes it (pipeline/run_finish.h).
+      RunOutputs outputs = run_pictures(params, result, quality, preview, page);
+      RunFolderOptions o;
+      o.threads = threads;
+      o.float32 = float32;
+      o.remove_checkpoint = false;  // a Python run writes none
+      finish_run_folder(dir, params, result, outputs, o, extra);
     }
     return to_path(dir);
   }

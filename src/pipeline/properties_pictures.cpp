@@ -13,6 +13,7 @@
 #include "properties/power_law_fit.h"
 #include "render/colormap.h"
 #include "render/raster.h"
+#include "render/plot.h"
 #include "render/text.h"
 
 namespace cmcsurf {
@@ -49,36 +50,6 @@ std::string direction_text(Vector3 d) {
   if (d[big] < 0) d = {-d[0], -d[1], -d[2]};
   auto c = [](double v) { return std::abs(v) < 5e-3 ? 0.0 : v; };
   return fmt::format("[{:.2f} {:.2f} {:.2f}]", c(d[0]), c(d[1]), c(d[2]));
-}
-
-// An anti-aliased line of width ~1.5 px; `on`/`off` > 0 make it dashed (lengths in pixels),
-// the pattern running on from `*phase` (the arc length drawn so far along a polyline).
-void draw_line(Image& img, double x0, double y0, double x1, double y1, Rgb c, double on = 0,
-               double off = 0, double* phase = nullptr, float width = 1.0f) {
-  const double length = std::hypot(x1 - x0, y1 - y0);
-  const int steps = std::max(1, int(2 * length));
-  const double start = phase ? *phase : 0.0;
-  for (int s = 0; s <= steps; ++s) {
-    const double t = double(s) / steps;
-    if (on > 0 && std::fmod(start + t * length, on + off) >= on) continue;
-    const double x = x0 + (x1 - x0) * t, y = y0 + (y1 - y0) * t;
-    for (int py = int(std::floor(y - 2)); py <= int(std::ceil(y + 2)); ++py)
-      for (int px = int(std::floor(x - 2)); px <= int(std::ceil(x + 2)); ++px) {
-        const double d = std::hypot(px + 0.5 - x, py + 0.5 - y);
-        if (d < width) img.blend(px, py, c, float(0.6 * (1.0 - d / width)));
-      }
-  }
-  if (phase) *phase += length;
-}
-
-void draw_disc(Image& img, double x, double y, double r, Rgb c, bool filled) {
-  for (int py = int(std::floor(y - r - 1)); py <= int(std::ceil(y + r + 1)); ++py)
-    for (int px = int(std::floor(x - r - 1)); px <= int(std::ceil(x + r + 1)); ++px) {
-      const double d = std::hypot(px + 0.5 - x, py + 0.5 - y);
-      const double cover = filled ? std::clamp(r + 0.5 - d, 0.0, 1.0)
-                                  : std::clamp(1.0 - std::abs(d - r) / 1.2, 0.0, 1.0);
-      if (cover > 0) img.blend(px, py, c, float(cover));
-    }
 }
 
 void draw_color_bar(Image& img, int x, int y, int width, int height, double lo, double hi,

@@ -277,7 +277,8 @@ SweepJson parse_sweep_json(const nlohmann::json& j) {
       throw std::invalid_argument(fmt::format("'outputs.threads': {}", why));
     out.outputs["threads"] = threads;
   }
-  for (const char* key : {"float32", "no_preview", "no_report", "no_plot", "properties",
+  for (const char* key : {"float32", "no_preview", "no_report", "no_plot", "plot_diffuse",
+                          "properties",
                           "properties_nodal", "properties_grid_check"}) {
     bool flag = false;
     if (read(o, "outputs.", key, flag, true)) out.outputs[key] = flag;

@@ -45,10 +45,10 @@ struct SweepParams {
 // sweep.json read back (sweep --resume): the sweep (surfaces, volume_fractions, continuation,
 // parameters as params_from_json reads them, all of it passing check_sweep_params, every member
 // name passing check_member_name) and the output options a resume may restore: of "outputs",
-// threads, float32, no_preview, no_report, no_plot and checkpoint_every where present, each
-// checked (type, range; integers never wrapped). "python" and "plot_script" are never returned:
-// a resumed sweep does not take an executable from a file. The informational keys (members,
-// threads, wall_seconds, mpi) are type- and range-checked too; other keys are ignored. Throws
+// threads, float32, no_preview, no_report, no_plot, plot_diffuse and checkpoint_every where
+// present, each checked (type, range; integers never wrapped). "python" and "plot_script" are
+// never returned: a resumed sweep does not take an executable from a file. The informational
+// keys (members, threads, wall_seconds, mpi) are checked too; other keys are ignored. Throws
 // std::invalid_argument naming the key and what is accepted.
 struct SweepJson {
   SweepParams sweep;
