@@ -10,7 +10,7 @@
 #include "common/wall_clock.h"
 #include "cli_common.h"
 #include "commands.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/json_file.h"
 #include "io/png.h"
 #include "io/run_report.h"
@@ -21,7 +21,7 @@
 #include "multigrid/fas.h"
 #include "parallel/decomposition.h"
 #include "pipeline/distributed_mesh.h"
-#include "pipeline/option_checks.h"
+#include "model/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
@@ -29,7 +29,7 @@
 #include "pipeline/sweep.h"
 #include "page_options.h"
 #include "properties_options.h"
-#include "pipeline/run_page.h"
+#include "report/run_page.h"
 #include "run_control.h"
 
 namespace cmcsurf::cli {

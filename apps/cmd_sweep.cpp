@@ -14,7 +14,7 @@
 #include "cahn_hilliard/time_step.h"
 #include "cli_common.h"
 #include "commands.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/build_info.h"
 #include "io/json_file.h"
 #include "io/png.h"
@@ -23,7 +23,7 @@
 #include "io/run_folder.h"
 #include "io/vti.h"
 #include "parallel/decomposition.h"
-#include "pipeline/option_checks.h"
+#include "model/option_checks.h"
 #include "pipeline/preview.h"
 #include "pipeline/properties_pictures.h"
 #include "pipeline/properties_stage.h"
@@ -32,7 +32,7 @@
 #include "pipeline/sweep_groups.h"
 #include "page_options.h"
 #include "properties_options.h"
-#include "pipeline/run_page.h"
+#include "report/run_page.h"
 #include "run_control.h"
 
 namespace cmcsurf::cli {

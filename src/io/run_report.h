@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
-#include "pipeline/cmc.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 

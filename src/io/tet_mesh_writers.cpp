@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 
 namespace cmcsurf {
 
