@@ -11,14 +11,14 @@
 #include <variant>
 #include <fmt/format.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
 #include "io/vti.h"
 #include "multigrid/fas.h"
 #include "parallel/decomposition.h"
 #include "parallel/threads.h"
-#include "pipeline/option_checks.h"
+#include "model/option_checks.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
 

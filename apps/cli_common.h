@@ -12,8 +12,8 @@
 #include "measure/quality.h"
 
 #include "pipeline/cmc.h"
-#include "pipeline/run_options.h"
-#include "pipeline/run_schema.h"
+#include "model/run_options.h"
+#include "model/run_schema.h"
 #include "io/run_folder.h"
 
 namespace cmcsurf::cli {

@@ -11,7 +11,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "parallel/decomposition.h"
-#include "pipeline/option_checks.h"
+#include "model/option_checks.h"
 
 namespace {
 

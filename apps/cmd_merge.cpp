@@ -6,7 +6,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "pipeline/sweep_merge.h"
+#include "driver/sweep_merge.h"
 #include "run_control.h"
 
 namespace cmcsurf::cli {

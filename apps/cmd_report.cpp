@@ -6,8 +6,8 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "pipeline/part_page.h"
-#include "pipeline/run_page.h"
+#include "report/part_page.h"
+#include "report/run_page.h"
 #include "run_control.h"
 
 namespace cmcsurf::cli {

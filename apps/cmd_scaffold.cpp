@@ -14,7 +14,7 @@
 #include "common/wall_clock.h"
 #include "cli_common.h"
 #include "commands.h"
-#include "pipeline/scaffold_run.h"
+#include "driver/scaffold_run.h"
 
 namespace cmcsurf::cli {
 

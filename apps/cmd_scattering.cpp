@@ -12,7 +12,7 @@
 #include "commands.h"
 #include "run_control.h"
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/csv.h"
 #include "io/json_file.h"
 #include "io/png.h"

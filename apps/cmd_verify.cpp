@@ -7,7 +7,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 #include "pipeline/verify.h"
 
 namespace cmcsurf::cli {

@@ -9,7 +9,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "io/tet_mesh_writers.h"
-#include "mesh/volume_mesh.h"
+#include "pipeline/volume_mesh.h"
 #include "mesh_options.h"
 
 namespace cmcsurf::cli {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/pvti.h"
 #include "io/vti.h"

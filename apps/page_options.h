@@ -1,5 +1,5 @@
 // --no-preview and --no-report of run and sweep (docs/report.md); the pages themselves are
-// written by the library (pipeline/run_page.h).
+// written by the library (report/run_page.h).
 #pragma once
 
 #include <CLI/CLI.hpp>

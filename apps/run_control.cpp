@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 
 #include "cli_common.h"
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
 #include "schema/report_schema.h"

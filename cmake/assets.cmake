@@ -52,5 +52,6 @@ configure_file(${PROJECT_SOURCE_DIR}/cmake/assets.cpp.in ${CMAKE_BINARY_DIR}/gen
                @ONLY)
 set_source_files_properties(${CMAKE_BINARY_DIR}/generated/assets.cpp PROPERTIES
                             OBJECT_DEPENDS "${CMCSURF_FONT_FILE};${viewer_incbin}")
-target_sources(cmcsurf_lib PRIVATE ${CMAKE_BINARY_DIR}/generated/assets.cpp)
-target_link_libraries(cmcsurf_lib PUBLIC PkgConfig::STB)
+target_sources(cmcsurf_render PRIVATE ${CMAKE_BINARY_DIR}/generated/assets.cpp)
+target_link_libraries(cmcsurf_render PRIVATE PkgConfig::STB)
+target_link_libraries(cmcsurf_io PRIVATE PkgConfig::STB)  # io/png.cpp

@@ -1,8 +1,9 @@
 // Writes the valid seeds of fuzz/corpus/checkpoint/ with the real writer, and the broken ones
 // as small edits of them or as hostile states written by it. Not part of any build; from the
-// repository root, with a Release build in build-rel (its library; no MPI):
+// repository root, with a Release build in build-rel (its layers' libraries; no MPI):
 //   g++ -std=c++20 -O1 -fopenmp -Isrc -DCMCSURF_VERSION='"0.1.0"' fuzz/make_checkpoint_seeds.cpp \
-//       build-rel/libcmcsurf_lib.a -lfmt -lz -lmuparser -o /tmp/make_checkpoint_seeds \
+//       -Wl,--start-group build-rel/libcmcsurf_*.a -Wl,--end-group -lfmt -lz -lmuparser \
+//       -o /tmp/make_checkpoint_seeds \
 //     && /tmp/make_checkpoint_seeds
 #include <cmath>
 #include <cstdint>

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzz_target.h"
-#include "pipeline/option_checks.h"
-#include "pipeline/run_options.h"
+#include "model/option_checks.h"
+#include "model/run_options.h"
 #include "pipeline/sweep.h"
 
 CMCSURF_FUZZ_TARGET(sweep_json) {

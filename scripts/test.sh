@@ -10,8 +10,10 @@
 # ./build-mpi and ./build-asan; `none` skips all but the first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# Warnings are errors in CI's builds (CMCSURF_WERROR; a user's scripts/setup.sh leaves it off).
-CMCSURF_WERROR=ON \
+# Warnings are errors in CI's builds (CMCSURF_WERROR; a user's scripts/setup.sh leaves it off),
+# and the MPI build links each layer as a shared library with -Wl,--no-undefined
+# (CMCSURF_CHECK_LAYERS), where a call up the layers fails to link.
+CMCSURF_WERROR=ON CMCSURF_CHECK_LAYERS=ON \
   CMCSURF_EXTRA_PACKAGES="python3-vtk9 chromium ${CMCSURF_EXTRA_PACKAGES:-}" scripts/setup.sh "$@"
 build="${CMCSURF_BUILD_DIR:-build}"
 ctest --test-dir "$build" --output-on-failure -j 2 --timeout 600

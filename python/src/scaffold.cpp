@@ -19,9 +19,9 @@
 #include "io/pvti.h"
 #include "io/vti.h"
 #include "multigrid/fas.h"
-#include "pipeline/option_checks.h"
-#include "pipeline/run_options.h"
-#include "pipeline/scaffold_run.h"
+#include "model/option_checks.h"
+#include "model/run_options.h"
+#include "driver/scaffold_run.h"
 
 namespace py = pybind11;
 

@@ -17,8 +17,8 @@
 
 #include <fmt/format.h>
 
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/run_report.h"
 #include "parallel/agree.h"
 

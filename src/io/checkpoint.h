@@ -29,7 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/build_info.h"
-#include "pipeline/cmc.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/run_report.h"
+#include "pipeline/cmc.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {

@@ -4,7 +4,7 @@
 
 #include <fmt/core.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 
 namespace cmcsurf {
 

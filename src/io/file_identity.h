@@ -16,7 +16,7 @@ struct FileRole {
   std::string role;
 };
 
-// Throws OptionError (pipeline/run_options.h) naming both when a file in `writes` is the same
+// Throws OptionError (model/run_options.h) naming both when a file in `writes` is the same
 // file as one in `reads`. A file that does not exist is no input's: it passes.
 void check_outputs_are_not_inputs(const std::vector<FileRole>& reads,
                                   const std::vector<FileRole>& writes);

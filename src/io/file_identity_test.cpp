@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 namespace {

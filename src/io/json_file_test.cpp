@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "support/read_json.h"
 #include "support/temp_dir.h"
 

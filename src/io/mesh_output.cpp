@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/json_file.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 

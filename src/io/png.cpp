@@ -9,8 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 
 namespace cmcsurf {
 

@@ -11,7 +11,7 @@ namespace cmcsurf {
 
 // The PNG bytes of an RGB image (8 bits per channel).
 std::string encode_png(const Image& image);
-// Writes the PNG atomically (io/atomic_file.h).
+// Writes the PNG atomically (common/atomic_file.h).
 void write_png(const std::filesystem::path& path, const Image& image);
 // Reads a PNG (any bit depth or colour type, converted to 8-bit RGB, alpha over white).
 // Throws std::runtime_error naming the file and stb_image's reason.

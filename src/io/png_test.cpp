@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "io/report_html.h"
+#include "report/report_html.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {

@@ -12,8 +12,8 @@
 
 #include <fmt/core.h>
 
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "parallel/agree.h"
 
 namespace cmcsurf {

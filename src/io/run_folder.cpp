@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "common/wall_clock.h"
+#include "common/atomic_file.h"
 #include "grid/check.h"
-#include "io/atomic_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
 #include "io/pvti.h"

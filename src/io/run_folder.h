@@ -13,7 +13,7 @@
 
 #include "measure/quality.h"
 #include "parallel/decomposition.h"
-#include "pipeline/cmc.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 

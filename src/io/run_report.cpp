@@ -13,12 +13,12 @@
 
 #include <fmt/format.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/build_info.h"
 #include "io/csv.h"
 #include "parallel/threads.h"
-#include "pipeline/run_options.h"
-#include "pipeline/run_schema.h"
+#include "model/run_options.h"
+#include "model/run_schema.h"
 #include "science/crystallographic_cell.h"
 #include "surfaces/initial.h"
 

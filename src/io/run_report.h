@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "measure/quality.h"
-#include "pipeline/cmc.h"
+#include "model/run.h"
 #include "schema/report_schema.h"
 
 namespace cmcsurf {

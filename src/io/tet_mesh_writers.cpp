@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 
 #ifdef CMCSURF_HAVE_HDF5
 #include <hdf5.h>

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {

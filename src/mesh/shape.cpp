@@ -16,7 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/input_file.h"
+#include "common/input_file.h"
 #include "parallel/first_exception.h"
 
 namespace cmcsurf {

@@ -10,7 +10,7 @@
 
 #include <Model/COM/NMR_DLLInterfaces.h>
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 
 namespace cmcsurf {
 

@@ -20,15 +20,6 @@
 
 namespace cmcsurf {
 
-const char* constraint_name(Constraint c) {
-  switch (c) {
-    case Constraint::kVolume: return "volume";
-    case Constraint::kMass: return "mass";
-    case Constraint::kComponents: return "components";
-  }
-  return "?";
-}
-
 Measures measure_field_diffuse(Field& phi, double epsilon) {
   phi.exchange_halo();
   Measures m;

@@ -11,6 +11,7 @@
 
 #include "grid/field.h"
 #include "measure/components.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 
@@ -53,14 +54,6 @@ class ComponentConstraint {
 // with the equilibrium tanh profile at params.epsilon (surfaces/nodal_level.h). Ghost 2.
 Field double_structure_seed(const RunParams& params);
 
-// What report.json compares: the components of each phase and the Euler characteristics.
-struct PhaseTopology {
-  std::int64_t components_phase1 = -1;
-  std::int64_t components_phase2 = -1;
-  std::int64_t euler_characteristic_phase1 = 0;
-  std::int64_t euler_characteristic_phase2 = 0;
-  bool operator==(const PhaseTopology&) const = default;
-};
 // phi: halo current.
 PhaseTopology phase_topology(const Field& phi);
 PhaseTopology phase_topology(const Measures& m);

@@ -56,4 +56,13 @@ PreviewLabels preview_labels(const std::string& surface, double alpha, double me
                              int grid, double epsilon, double relaxed_std, double nodal_std,
                              bool has_nodal);
 
+// A sweep member's unit cell for gallery.png (the relaxed surface of its preview stage).
+struct GalleryMember {
+  std::string surface;
+  std::string name;
+  double alpha = 0.0;
+  double mean_curvature = 0.0;
+  DrawSurface relaxed;
+};
+
 }  // namespace cmcsurf

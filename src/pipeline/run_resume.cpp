@@ -5,15 +5,15 @@
 #include <chrono>
 #include <fstream>
 
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/pvti.h"
 #include "io/run_folder.h"
 #include "io/run_report.h"
 #include "schema/report_schema.h"
 #include "measure/measures.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 

@@ -16,7 +16,7 @@
 #include "io/output_folder.h"
 #include "parallel/decomposition.h"
 #include "pipeline/cmc.h"
-#include "pipeline/run_schema.h"
+#include "model/run_schema.h"
 #include "pipeline/sweep.h"
 
 namespace cmcsurf {

@@ -7,7 +7,7 @@
 
 #include "io/run_report.h"
 #include "pipeline/cmc.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 namespace {

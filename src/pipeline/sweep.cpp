@@ -14,8 +14,8 @@
 #include "measure/measures.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
-#include "pipeline/option_checks.h"
-#include "pipeline/run_options.h"
+#include "model/option_checks.h"
+#include "model/run_options.h"
 #include "surfaces/nodal_level.h"
 #include "surfaces/initial.h"
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/run_page.h"
+#include "pipeline/preview.h"
 #include "pipeline/sweep.h"
 
 namespace cmcsurf {

@@ -10,7 +10,7 @@
 
 #include "measure/measures.h"
 #include "multigrid/fas.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 #include "measure/sharp_volume.h"
 #include "surfaces/initial.h"
 

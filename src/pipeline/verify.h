@@ -12,7 +12,7 @@
 namespace cmcsurf {
 
 // The grids of the experiments below: those run --grid takes (coarsenable, 8 <= N <= kMaxGrid,
-// pipeline/run_options.h). "" when n is accepted, else "got N; accepted: ..." for a message.
+// model/run_options.h). "" when n is accepted, else "got N; accepted: ..." for a message.
 std::string check_verify_grid(int n);
 
 // epsilon_m = h m / (4 sqrt2 atanh(0.9)): the interface spans about m cells from 0.1 to 0.9.

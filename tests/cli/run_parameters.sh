@@ -2,7 +2,7 @@
 # report.json's `parameters` of three fixed runs (--paper, the defaults before the fast mode;
 # --fast at 64^3; every run option given another value) equal run_parameters.json beside this
 # script, key for key and in order: written by the build before the run option table
-# (pipeline/run_schema.cpp) existed, so the table maps every option to the key and value it
+# (model/run_schema.cpp) existed, so the table maps every option to the key and value it
 # always had (the keys added since, equilibrium_tol, paper and anderson_depth, and --fast's
 # equilibrium rule in
 # place of settle_tol were added to it by hand). Then a sweep resumed with any one

@@ -1,4 +1,4 @@
-#include "mesh/volume_mesh.h"
+#include "pipeline/volume_mesh.h"
 
 #include <cmath>
 #include <random>

@@ -1,18 +1,18 @@
-#include "pipeline/sweep_merge.h"
+#include "driver/sweep_merge.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <fstream>
 
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
-#include "pipeline/families_figure.h"
-#include "pipeline/run_options.h"
-#include "pipeline/run_page.h"
-#include "pipeline/sweep_driver.h"
+#include "driver/families_figure.h"
+#include "model/run_options.h"
+#include "report/run_page.h"
+#include "driver/sweep_driver.h"
 
 namespace cmcsurf {
 

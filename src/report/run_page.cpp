@@ -1,4 +1,4 @@
-#include "pipeline/run_page.h"
+#include "report/run_page.h"
 
 #include <fmt/format.h>
 
@@ -10,11 +10,11 @@
 #include <stdexcept>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
-#include "io/input_file.h"
+#include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/png.h"
 #include "io/pvti.h"
-#include "io/report_html.h"
+#include "report/report_html.h"
 #include "io/vti.h"
 #include "pipeline/preview.h"
 #include "pipeline/properties_pictures.h"

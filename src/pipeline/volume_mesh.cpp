@@ -1,4 +1,4 @@
-#include "mesh/volume_mesh.h"
+#include "pipeline/volume_mesh.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include "common/wall_clock.h"
 #include "io/mesh_output.h"
 #include "measure/sharp_volume.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 #include "properties/voxel_solid.h"
 
 namespace cmcsurf {

@@ -1,4 +1,4 @@
-#include "pipeline/families_figure.h"
+#include "driver/families_figure.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "io/input_file.h"
+#include "common/input_file.h"
 
 #include <stdexcept>
 #include <system_error>

@@ -26,14 +26,6 @@ double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* s
 // Writes dir/report.html for a sweep folder (sweep.json beside the member folders).
 double write_sweep_page(const std::filesystem::path& dir);
 
-// A sweep member's unit cell for gallery.png (the relaxed surface of its preview stage).
-struct GalleryMember {
-  std::string surface;
-  std::string name;
-  double alpha = 0.0;
-  double mean_curvature = 0.0;
-  DrawSurface relaxed;
-};
 // Draws dir/gallery.png: one row per family, members in sweep order, on one colour scale
 // centred on H = 0, beside dir/families.png if it exists. Returns the stage's wall time.
 double write_gallery(const std::filesystem::path& dir, const std::vector<GalleryMember>& members);

@@ -1,4 +1,4 @@
-#include "pipeline/sweep_driver.h"
+#include "driver/sweep_driver.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/build_info.h"
 #include "io/json_file.h"
 #include "io/output_folder.h"
@@ -17,11 +17,11 @@
 #include "io/run_folder.h"
 #include "io/run_report.h"
 #include "io/vti.h"
-#include "pipeline/families_figure.h"
+#include "driver/families_figure.h"
 #include "pipeline/properties_pictures.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 #include "pipeline/run_outputs.h"
-#include "pipeline/run_page.h"
+#include "report/run_page.h"
 #include "pipeline/sweep_groups.h"
 
 namespace cmcsurf {

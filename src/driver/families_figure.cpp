@@ -1,4 +1,4 @@
-#include "pipeline/families_figure.h"
+#include "driver/families_figure.h"
 
 #include <fmt/format.h>
 
@@ -8,9 +8,9 @@
 #include <map>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/png.h"
-#include "io/report_html.h"
+#include "report/report_html.h"
 #include "measure/literature.h"
 #include "render/plot.h"
 #include "render/text.h"

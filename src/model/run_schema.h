@@ -12,7 +12,7 @@
 #include <variant>
 #include <vector>
 
-#include "pipeline/cmc.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 

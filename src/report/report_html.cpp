@@ -1,4 +1,4 @@
-#include "io/report_html.h"
+#include "report/report_html.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "pipeline/scaffold_run.h"
+#include "driver/scaffold_run.h"
 
 #include <fmt/format.h>
 
@@ -12,10 +12,10 @@
 #include <optional>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/file_checksum.h"
 #include "io/file_identity.h"
-#include "io/input_file.h"
+#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/mesh_output.h"
 #include "io/output_folder.h"
@@ -26,9 +26,9 @@
 #include "mesh/scaffold_part.h"
 #include "mesh/shape.h"
 #include "pipeline/member_topology.h"
-#include "pipeline/part_page.h"
+#include "report/part_page.h"
 #include "pipeline/properties_stage.h"
-#include "pipeline/run_schema.h"
+#include "model/run_schema.h"
 #include "pipeline/scaffold_compare.h"
 #include "pipeline/scaffold_design.h"
 

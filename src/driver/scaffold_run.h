@@ -18,7 +18,7 @@
 #include "grid/field.h"
 #include "mesh/decimate.h"
 #include "pipeline/cmc.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 

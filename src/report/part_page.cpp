@@ -1,4 +1,4 @@
-#include "pipeline/part_page.h"
+#include "report/part_page.h"
 
 #include <fmt/format.h>
 
@@ -11,9 +11,9 @@
 #include <string>
 
 #include "common/wall_clock.h"
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 #include "io/png.h"
-#include "io/report_html.h"
+#include "report/report_html.h"
 #include "mesh/edge_collapse.h"
 #include "mesh/shape.h"
 #include "mesh/writers.h"

@@ -1,11 +1,11 @@
-#include "pipeline/run_schema.h"
+#include "model/run_schema.h"
 
 #include <algorithm>
 #include <limits>
 
 #include "multigrid/fas.h"
-#include "pipeline/option_checks.h"
-#include "pipeline/run_options.h"
+#include "model/option_checks.h"
+#include "model/run_options.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {

@@ -1,4 +1,4 @@
-#include "pipeline/run_schema.h"
+#include "model/run_schema.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include "cahn_hilliard/time_step.h"
 #include "io/run_report.h"
 #include "multigrid/fas.h"
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 namespace cmcsurf {
 namespace {

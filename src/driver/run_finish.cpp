@@ -1,4 +1,4 @@
-#include "pipeline/run_finish.h"
+#include "driver/run_finish.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,7 @@
 #include "io/run_report.h"
 #include "pipeline/distributed_mesh.h"
 #include "pipeline/properties_pictures.h"
-#include "pipeline/run_page.h"
+#include "report/run_page.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {

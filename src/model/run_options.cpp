@@ -1,4 +1,4 @@
-#include "pipeline/run_options.h"
+#include "model/run_options.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "multigrid/fas.h"
 #include "parallel/memory.h"
-#include "pipeline/run_schema.h"
+#include "model/run_schema.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "pipeline/cmc.h"
+#include "model/run.h"
 
 namespace cmcsurf {
 

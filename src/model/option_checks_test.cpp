@@ -1,4 +1,4 @@
-#include "pipeline/option_checks.h"
+#include "model/option_checks.h"
 
 #include <gtest/gtest.h>
 

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "parallel/decomposition.h"
-#include "pipeline/run_finish.h"
+#include "driver/run_finish.h"
 #include "pipeline/run_resume.h"
 #include "pipeline/sweep.h"
 
