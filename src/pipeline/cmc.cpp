@@ -613,6 +613,15 @@ void measure_final(RunResult& r, const RunParams& params) {
         "zero level, leaves no interface to relax",
         r.final.volume_fraction > 0.5 ? "everywhere" : "nowhere", r.final.volume_fraction,
         params.volume_fraction, params.grid));
+  if (r.phi.whole()) {
+    const SurfaceIntegrals s{r.final.area, r.final.total_mean_curvature,
+                             r.final.euler_characteristic_surface()};
+    r.geometry =
+        measure_cell_geometry(r.final_psi, s, parse_parallel_distances(params.parallel_distances),
+                              params.lipid_length, params.lipid_fraction);
+    if (params.distance_field) r.distance = profile_distance(r.final_psi, params.epsilon);
+    r.measure_seconds = seconds_since(t0);
+  }
 }
 
 // Step 6 (unless a checkpoint was taken after it) and, with hold_volume, the volume

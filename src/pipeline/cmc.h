@@ -13,6 +13,7 @@
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
 #include "measure/sharp_surface.h"
+#include "pipeline/cell_geometry.h"
 #include "pipeline/component_constraint.h"
 #include "pipeline/continuation.h"
 
@@ -83,6 +84,14 @@ struct RunParams {
   bool fast = true;
   bool paper = false;
   Structure structure = Structure::kSingle;
+  // The cell geometry of the final field (pipeline/cell_geometry.h): the parallel surfaces'
+  // distances l/a ("" none), and a lipid length (nm; 0: off) with the lipid volume fraction
+  // whose lattice parameter the lipid relation gives.
+  std::string parallel_distances = "0.02,0.05,0.1";
+  double lipid_length = 0.0;
+  double lipid_fraction = 0.0;
+  // Write the profile's signed distance (RunResult::distance) beside phi in the field file.
+  bool distance_field = false;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -205,6 +214,11 @@ struct RunResult {
   std::optional<PhaseTopology> seed_topology;
   std::vector<InterfaceMeasures> interfaces;
   std::vector<std::string> warnings;
+  // Channel radii, parallel surfaces and the lipid relation of the final field (whole grids;
+  // its time is part of measure_seconds and its own geometry.seconds).
+  std::optional<CellGeometry> geometry;
+  // With RunParams::distance_field (whole grids): profile_distance of the final field.
+  Field distance;
 };
 
 // Called after every time step with the step's record.
