@@ -28,12 +28,14 @@ import numpy as np
 
 from . import _cmcsurf
 from ._cmcsurf import Mesh, Result, SolverDiverged
+from .analysis import load, periodic_mesh, signed_distance
 
 __all__ = [
     "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
     "relax", "run", "scattering", "surfaces", "sweep", "__version__",
 ]
 __all__ += ["volume_mesh"]
+__all__ += ["load", "periodic_mesh", "signed_distance"]
 
 __version__: str = _cmcsurf.version()
 
