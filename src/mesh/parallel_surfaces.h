@@ -9,7 +9,8 @@
 // those areas from 0 to l (layer_volume below). Beside them, Steiner's
 // formula for a smooth surface whose normal segments do not meet within l, with the normal
 // pointing into phase 2 (H > 0 where phase 1 is convex):
-//   A_2(l) = A + 2 (int H dA) l + (int K dA) l^2,  V_2(l) = A l + (int H dA) l^2 + (int K dA) l^3 / 3
+//   A_2(l) = A + 2 (int H dA) l + (int K dA) l^2,
+//   V_2(l) = A l + (int H dA) l^2 + (int K dA) l^3 / 3
 // and A_1, V_1 the same with -l; int K dA = 2 pi chi (Gauss-Bonnet, chi of the surface).
 #pragma once
 
