@@ -6,7 +6,8 @@ decomposed run with an uninterrupted one import them from here (PYTHONPATH=tests
 """
 
 TIMING_KEYS = frozenset({
-    "wall_seconds", "solver_seconds", "measure_seconds", "quality_seconds", "volume_seconds",
+    "wall_seconds", "solver_seconds", "measure_seconds", "geometry_seconds", "quality_seconds",
+    "volume_seconds",
     "seconds_per_vcycle", "preview_seconds", "page_seconds", "write_seconds",
     "surface_mesh_seconds", "checkpoint_seconds", "peak_memory_bytes",
     "peak_memory_bytes_per_cell", "checkpoints_written", "resumed_from_step",
