@@ -7,6 +7,9 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "io/periodic_mesh_file.h"
+#include "measure/sharp_surface.h"
+#include "mesh/periodic_surface.h"
 #include "mesh_options.h"
 
 namespace cmcsurf::cli {
@@ -25,9 +28,45 @@ bool has_surface(const Field& phi) {
 struct MeshCommand {
   std::string from;
   MeshOptionStrings mesh;
+  bool periodic = false;
   int threads = 0;
   bool quiet = false;
 };
+
+// --periodic: the welded mesh of mesh/periodic_surface.h, as JSON (io/periodic_mesh_file.h).
+int write_periodic(const MeshCommand& cmd, const CLI::App& app) {
+  for (const char* name : {"--tile", "--cell-size", "--units", "--solid", "--other-phase",
+                           "--keep-fragments", "--thickness", "--format"})
+    if (app.get_option(name)->count() > 0)
+      throw UsageError(fmt::format("{}: not with --periodic (the periodic mesh is one computed "
+                                   "cell in cell units, the surface only)",
+                                   name));
+  if (std::filesystem::path(cmd.mesh.out).extension() != ".json")
+    throw UsageError(fmt::format("--out: got '{}'; accepted with --periodic: a FILE.json",
+                                 cmd.mesh.out));
+  refuse_overwriting_inputs(field_inputs(cmd.from, "--from"), cmd.mesh.out);
+  const Field phi = load_phi(cmd.from, "--from");
+  if (!has_surface(phi))
+    throw std::runtime_error(fmt::format(
+        "--from '{}': the field has no phi = 1/2 surface (every value on one side of 1/2): "
+        "nothing to mesh, nothing written", cmd.from));
+  check_field_topology(cmd.from, cmd.mesh.accept_topology_change);
+  apply_threads(cmd.threads);
+  Field psi = Field::like(phi, 2);
+  tanh_profile_inverse(phi, psi);
+  const PeriodicSurfaceMesh m = periodic_surface(psi);
+  const nlohmann::json stats = periodic_mesh_stats_json(m);
+  write_periodic_mesh_json(cmd.mesh.out, m, {{"source", cmd.from}});
+  if (!cmd.quiet)
+    std::cerr << fmt::format(
+        "periodic surface: {} triangles, {} vertices, {} edges, V - E + F = {}, area {:.6g} "
+        "(cell units), {} and {}\nwrote {}\n",
+        stats["triangles"].get<long>(), stats["vertices"].get<long>(),
+        stats["edges"].get<long>(), stats["euler_characteristic"].get<long>(),
+        stats["area"].get<double>(), stats["closed"].get<bool>() ? "closed" : "open",
+        stats["manifold"].get<bool>() ? "manifold" : "NOT manifold", cmd.mesh.out);
+  return 0;
+}
 
 }  // namespace
 
@@ -42,7 +81,12 @@ CommandFn add_mesh_command(CLI::App& root) {
   add_mesh_output_options(*app, cmd->mesh, true);
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No summary output");
-  return {app, [cmd]() -> int {
+  app->add_flag("--periodic", cmd->periodic,
+                "Write the surface of one cell as a welded periodic mesh (a closed surface on the "
+                "torus: each vertex once, triangles with their wrap offsets, per-vertex normals, "
+                "H and K) to --out FILE.json; no tiling, scaling or solids");
+  return {app, [cmd, app]() -> int {
+            if (cmd->periodic) return write_periodic(*cmd, *app);
             refuse_overwriting_inputs(field_inputs(cmd->from, "--from"), cmd->mesh.out);
             const Field phi = load_phi(cmd->from, "--from");
             const MeshPlan plan = finish_mesh_output_options(cmd->mesh, phi.n());

@@ -30,6 +30,7 @@ import numpy as np
 
 from . import _cmcsurf
 from ._cmcsurf import Mesh, Result, SolverDiverged
+from .analysis import load, periodic_mesh, signed_distance
 
 __all__ = [
     "Mesh", "Result", "SolverDiverged", "initial_field", "measure", "mesh", "properties",
@@ -37,6 +38,7 @@ __all__ = [
 ]
 __all__ += ["volume_mesh", "HISTORY_COLUMNS"]
 __all__ += ["morphometry", "scaffold"]
+__all__ += ["load", "periodic_mesh", "signed_distance"]
 
 __version__: str = _cmcsurf.version()
 # history.csv's columns in its order (Result.history's keys, a progress dict's), from the

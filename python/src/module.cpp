@@ -1222,6 +1222,8 @@ mesh came from. Returns path as a pathlib.Path.)";
 
 }  // namespace
 
+void register_analysis(py::module_& m);  // python/src/analysis.cpp
+
 PYBIND11_MODULE(_cmcsurf, m) {
   m.doc() = "The compiled core of cmcsurf; use the functions of the cmcsurf package.";
   // OpenMP starts OMP_NUM_THREADS threads at the first parallel region (100000: a crash), and
@@ -1259,6 +1261,7 @@ PYBIND11_MODULE(_cmcsurf, m) {
         py::arg("threads"));
   m.def("scattering", &scattering, py::arg("source"), py::arg("options"), py::arg("threads"));
   register_scaffold(m);
+  register_analysis(m);  // python/src/analysis.cpp
 
   // The methods' docstrings begin with their own signature, in the package's types.
   py::options options;

@@ -99,8 +99,14 @@ nlohmann::json write_run_folder(const std::filesystem::path& dir, const RunParam
   write_curvature_histogram_csv(dir / "curvature_histogram.csv", quality);
   write_curvature_distribution_csv(dir / "curvature_distribution.csv", quality);
   write_history_csv(dir / "history.csv", r.history);
-  if (const auto* whole = std::get_if<std::reference_wrapper<const Field>>(&field))
-    write_run_field(dir, {{"phi", &whole->get()}}, float32, run_field_metadata(p, r, report));
+  if (const auto* whole = std::get_if<std::reference_wrapper<const Field>>(&field)) {
+    const Field& phi = whole->get();
+    std::vector<VtiArray> arrays = {{"phi", &phi}};
+    // --distance-field: the profile's signed distance beside phi (whole grids).
+    if (r.distance.n() == phi.n() && r.distance.size() == phi.size())
+      arrays.push_back({"distance", &r.distance});
+    write_run_field(dir, arrays, float32, run_field_metadata(p, r, report));
+  }
   if (extra_files) extra_files(report);
   // The files before report.json; report.json itself and a page written after it are not in it.
   report["write_seconds"] =

@@ -17,6 +17,7 @@
 #include "io/build_info.h"
 #include "io/csv.h"
 #include "parallel/threads.h"
+#include "mesh/morphometry.h"
 #include "model/run_options.h"
 #include "model/run_schema.h"
 #include "science/crystallographic_cell.h"
@@ -106,6 +107,70 @@ nlohmann::json measures_json(const Measures& m, bool curvature_integrals) {
   j["equilibrium_residual"] = m.equilibrium_residual;
   return j;
 }
+
+namespace {
+
+nlohmann::json parallel_side_json(const std::vector<ParallelSurface>& side) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const ParallelSurface& ps : side)
+    a.push_back({{"distance", ps.distance},
+                 {"area", ps.area},
+                 {"volume", ps.volume},
+                 {"area_steiner", ps.area_steiner},
+                 {"volume_steiner", ps.volume_steiner}});
+  return a;
+}
+
+// The cell geometry's keys: channel_radius, parallel_surfaces, lipid (with its options),
+// geometry_seconds. NaN (no solution) is written as null.
+void add_cell_geometry(nlohmann::json& j, const CellGeometry& g, const RunParams& p) {
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  j["channel_radius"] = {{"phase1", thickness_json(g.channels.phase1, "unit cell")},
+                         {"phase2", thickness_json(g.channels.phase2, "unit cell")}};
+  j["parallel_surfaces"] = {
+      {"area", g.integrals.area},
+      {"total_mean_curvature", g.integrals.total_mean_curvature},
+      {"euler_characteristic_surface", g.integrals.euler_characteristic},
+      {"phase1", parallel_side_json(g.parallel.phase1)},
+      {"phase2", parallel_side_json(g.parallel.phase2)}};
+  if (g.lipid) {
+    nlohmann::json l = {{"length_nm", g.lipid->length_nm},
+                        {"volume_fraction", g.lipid->fraction},
+                        {"length_ratio", number(g.lipid->ratio_formula)},
+                        {"lattice_parameter_nm", number(g.lipid->lattice_nm_formula)},
+                        {"length_ratio_measured", number(g.lipid->ratio_measured)},
+                        {"lattice_parameter_measured_nm", number(g.lipid->lattice_nm_measured)}};
+    if (const auto cell = crystallographic_cell(p.surface)) {
+      l["crystallographic_lattice_parameter_nm"] =
+          number(g.lipid->lattice_nm_formula * cell->lattice_ratio);
+      l["crystallographic_lattice_parameter_measured_nm"] =
+          number(g.lipid->lattice_nm_measured * cell->lattice_ratio);
+    }
+    j["lipid"] = l;
+  }
+  j["geometry_seconds"] = g.seconds;
+}
+
+void add_cell_geometry_conventions(nlohmann::json& j) {
+  j["conventions"]["channel_radius"] =
+      "per phase (phase1: phi > 1/2): at each cell of the phase, the radius of the largest ball "
+      "inside the phase that contains it (half of scaffold's local thickness; mean, std, min, "
+      "max = the largest inscribed sphere, volume-weighted p5/p50/p95, a histogram), in units of "
+      "the computed cell; voxel resolution, about h/2";
+  j["conventions"]["parallel_surfaces"] =
+      "for each distance l (--parallel-distances, cell units) and side (phase1: the parallel "
+      "surface inside phase 1, phase2: inside phase 2): the area of {d = l} and the volume "
+      "between the surface and it, d the exact distance to the sharp surface's mesh; "
+      "area_steiner = A -+ 2 (int H dA) l + 2 pi chi l^2 and volume_steiner = A l -+ (int H dA) "
+      "l^2 + 2 pi chi l^3 / 3 (- on the phase-1 side; valid while the normals do not meet)";
+  j["conventions"]["lipid"] =
+      "--lipid-length l (nm) and --lipid-fraction phi_L: the x = l / a with phi_L = 2 "
+      "sigma x + (4 pi / 3) chi x^3 (sigma, chi of the computed cell: length_ratio, "
+      "lattice_parameter_nm = l / x; crystallographic_*: a_c of crystallographic_cell) and "
+      "with phi_L the measured volume fraction of {|d| < x} (the *_measured keys)";
+}
+
+}  // namespace
 
 std::uint64_t peak_memory_bytes() {
   rusage usage{};
@@ -220,6 +285,8 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
     j["component_volumes"] = r.component_volumes;
   }
   j["warnings"] = r.warnings;
+  // The cell geometry (pipeline/cell_geometry.h): channel radii, parallel surfaces, lipids.
+  if (r.geometry) add_cell_geometry(j, *r.geometry, p);
   j["balanced"] = info ? nlohmann::json(info->balanced) : nlohmann::json();
   j["wall_seconds"] = r.wall_seconds;
   j["solver_seconds"] = r.solver_seconds;

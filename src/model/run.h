@@ -13,6 +13,7 @@
 #include "grid/field.h"
 #include "measure/components.h"
 #include "measure/sharp_surface.h"
+#include "model/cell_geometry.h"
 #include "schema/report_schema.h"
 
 namespace cmcsurf {
@@ -86,6 +87,15 @@ struct RunParams {
   bool fast = true;
   bool paper = false;
   Structure structure = Structure::kSingle;
+  // The cell geometry of the final field (pipeline/cell_geometry.h; measured only when either
+  // is given, since it costs several solves at 128^3): the parallel surfaces' distances l/a
+  // ("" none), and a lipid length (nm; 0: off) with the lipid volume fraction whose lattice
+  // parameter the lipid relation gives.
+  std::string parallel_distances;
+  double lipid_length = 0.0;
+  double lipid_fraction = 0.0;
+  // Write the profile's signed distance (RunResult::distance) beside phi in the field file.
+  bool distance_field = false;
 
   double h() const { return 1.0 / grid; }
   double dt() const { return dt_factor * h(); }
@@ -211,6 +221,11 @@ struct RunResult {
   std::optional<PhaseTopology> seed_topology;
   std::vector<InterfaceMeasures> interfaces;
   std::vector<std::string> warnings;
+  // Channel radii, parallel surfaces and the lipid relation of the final field (whole grids,
+  // when asked for; its time is part of measure_seconds and its own geometry.seconds).
+  std::optional<CellGeometry> geometry;
+  // With RunParams::distance_field (whole grids): profile_distance of the final field.
+  Field distance;
 };
 
 // What the final measures computed on the way, returned beside the result for the stages after

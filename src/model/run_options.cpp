@@ -10,6 +10,7 @@
 #include "multigrid/fas.h"
 #include "parallel/memory.h"
 #include "model/run_schema.h"
+#include "model/cell_geometry.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -129,6 +130,16 @@ void check_run_params(const RunParams& p, bool check_surface) {
           "--dt-max-factor", p.dt_max_factor, "0 (fixed dt) or --dt-factor <= F <= 1000");
   require(p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps >= 1, "--pre-sweeps/--post-sweeps",
           p.solver.fas.pre_sweeps + p.solver.fas.post_sweeps, "at least one sweep in total");
+  try {
+    parse_parallel_distances(p.parallel_distances);
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(fmt::format("--parallel-distances: {}", e.what()));
+  }
+  // The lipid relation needs both numbers.
+  require(p.lipid_length == 0.0 || p.lipid_fraction > 0.0, "--lipid-fraction", p.lipid_fraction,
+          "0 < F < 1 with --lipid-length");
+  require(p.lipid_fraction == 0.0 || p.lipid_length > 0.0, "--lipid-length", p.lipid_length,
+          "L > 0 (nm) with --lipid-fraction");
 }
 
 }  // namespace cmcsurf

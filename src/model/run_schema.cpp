@@ -367,6 +367,50 @@ const std::vector<RunOption>& table() {
        .ref = RunMember<int>([](RunParams& p) -> int& { return p.max_volume_corrections; }),
        .range = closed(0, 100),
        .accepted = "0..100"},
+      {.key = "parallel_distances",
+       .cli = "--parallel-distances",
+       .help = "Distances l/a (comma-separated, each 0 < l < 0.25 cell units; '' none, the "
+               "default) of the parallel surfaces whose areas and volumes report.json's "
+               "parallel_surfaces lists beside Steiner's formula; a list (or --lipid-length) "
+               "also measures the channel radii (several solves' time at 128^3)",
+       .unit = "unit cell",
+       .scope = S::kSolver,
+       .solver_group = false,
+       .ref = RunMember<std::string>(
+           [](RunParams& p) -> std::string& { return p.parallel_distances; }),
+       .optional_in_json = true},  // absent before the cell geometry: the default, none
+      {.key = "lipid_length",
+       .cli = "--lipid-length",
+       .help = "Lipid length l (nm; 0: off): report.json's lipid gives the lattice parameter "
+               "at which a bilayer of lipids of this length on both sides of the surface fills "
+               "--lipid-fraction of the cell",
+       .unit = "nm",
+       .scope = S::kSolver,
+       .solver_group = false,
+       .ref = RunMember<double>([](RunParams& p) -> double& { return p.lipid_length; }),
+       .range = {0.0, 1e6, true, false},
+       .accepted = "0 (off) <= L < 1e6",
+       .optional_in_json = true},
+      {.key = "lipid_fraction",
+       .cli = "--lipid-fraction",
+       .help = "Lipid volume fraction phi_L of the lipid relation (with --lipid-length)",
+       .unit = "",
+       .scope = S::kSolver,
+       .solver_group = false,
+       .ref = RunMember<double>([](RunParams& p) -> double& { return p.lipid_fraction; }),
+       .range = {0.0, 1.0, true, false},
+       .accepted = "0 <= F < 1",
+       .optional_in_json = true},
+      {.key = "distance_field",
+       .cli = "--distance-field",
+       .help = "Add the array `distance` to the run's field file: the signed distance to the "
+               "phi = 1/2 surface (cell units, > 0 in phase 1) that the tanh profile encodes, "
+               "2 sqrt(2) epsilon atanh(2 phi - 1)",
+       .unit = "",
+       .scope = S::kSolver,
+       .solver_group = false,
+       .ref = RunMember<bool>([](RunParams& p) -> bool& { return p.distance_field; }),
+       .optional_in_json = true},  // absent before it existed: false
       // Parameters a checkpoint or sweep.json carries that the command line does not set.
       {.key = "noise_amplitude",
        .cli = "",

@@ -11,6 +11,7 @@
 #include "common/wall_clock.h"
 #include "measure/measures.h"
 #include "multigrid/fas.h"
+#include "pipeline/cell_geometry.h"
 #include "pipeline/continuation.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
@@ -635,6 +636,19 @@ void measure_final(RunResult& r, const RunParams& params, FinalFieldCache* cache
         "zero level, leaves no interface to relax",
         r.final.volume_fraction > 0.5 ? "everywhere" : "nowhere", r.final.volume_fraction,
         params.volume_fraction, params.grid));
+  if (r.phi.whole()) {
+    // The cell geometry costs several solves' worth at 128^3 (the exact distance to the mesh):
+    // only when asked for, by a distance list or a lipid length.
+    if (!params.parallel_distances.empty() || params.lipid_length > 0.0) {
+      const SurfaceIntegrals s{r.final.area, r.final.total_mean_curvature,
+                               r.final.euler_characteristic_surface()};
+      r.geometry = measure_cell_geometry(keep.psi, s,
+                                         parse_parallel_distances(params.parallel_distances),
+                                         params.lipid_length, params.lipid_fraction);
+    }
+    if (params.distance_field) r.distance = profile_distance(keep.psi, params.epsilon);
+    r.measure_seconds = seconds_since(t0);
+  }
 }
 
 // Step 6 (unless a checkpoint was taken after it) and, with hold_volume, the volume

@@ -90,7 +90,8 @@ void expect_same_run(const RunResult& a, const RunResult& b) {
   nlohmann::json ja = run_report(RunParams{}, a, 1), jb = run_report(RunParams{}, b, 1);
   // Timings, and the process's peak memory (the whole process's, not the run's: the resumed
   // run read a checkpoint, and under ASan the allocator's own pools move it).
-  for (const char* key : {"wall_seconds", "solver_seconds", "measure_seconds", "volume_seconds",
+  for (const char* key : {"wall_seconds", "solver_seconds", "measure_seconds", "geometry_seconds",
+                          "volume_seconds",
                           "seconds_per_vcycle", "timings", "peak_memory_bytes",
                           "peak_memory_bytes_per_cell"}) {
     ja.erase(key);

@@ -441,6 +441,24 @@ const std::vector<ReportKey> kReportKeys = {
      .help = "what the command line printed as warnings: the result's topology differs from its "
              "seed's, or the seed's components share one volume constraint",
      .convention = true},
+    // The cell geometry (with --parallel-distances or --lipid-length; its conventions are
+    // written only then, by io/run_report.cpp).
+    {.key = "channel_radius",
+     .label = "channel radius",
+     .help = "per phase: the radius of the largest ball inside the phase that contains each "
+             "cell, statistics in units of the computed cell (docs/science.md)"},
+    {.key = "parallel_surfaces",
+     .label = "parallel surfaces",
+     .help = "for each --parallel-distances l and side: the area of {d = l} and the volume "
+             "between the surface and it, beside Steiner's formula"},
+    {.key = "lipid",
+     .label = "lipid relation",
+     .help = "--lipid-length and --lipid-fraction: l/a and the lattice parameter they imply"},
+    {.key = "geometry_seconds",
+     .label = "cell geometry (s)",
+     .unit = "s",
+     .help = "wall time of the cell geometry (part of measure_seconds)",
+     .timing = true},
     {.key = "balanced",
      .label = "balanced",
      .help = "the nodal surface's two sides are congruent (null: no formula)"},

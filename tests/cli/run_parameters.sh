@@ -7,7 +7,7 @@
 # equilibrium rule in
 # place of settle_tol were added to it by hand). Then a sweep resumed with any one
 # of those options changed is refused (exit 2, the option named): resume compares every option
-# of the table by its key, those under the "solver" heading too.
+# of the table by its key, those under the "solver" heading too (the lipid pair once, together).
 set -u
 bin="$1"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -23,7 +23,8 @@ every=(--surface D --volume-fraction 0.4 --grid 16 --epsilon 0.05 --dt-factor 0.
        --max-vcycles 50 --pre-sweeps 3
        --post-sweeps 1
        --prerelax-steps 2 --prerelax-epsilon-factor 4 --bisection-tol 1e-5 --bisection-max-it 40
-       --max-volume-corrections 4)
+       --max-volume-corrections 4 --parallel-distances 0.03 --lipid-length 2 --lipid-fraction 0.5
+       --distance-field)
 
 "$bin" run --paper --grid 16 --max-steps 2 --out "$work/default" "${quiet[@]}" || fail=1
 "$bin" run --grid 64 --fast --max-steps 1 --out "$work/fast" "${quiet[@]}" || fail=1
@@ -46,6 +47,8 @@ while [ $i -lt ${#every[@]} ]; do
   next=${every[$((i + 1))]:-}
   if [ -n "$next" ] && [ "${next#--}" = "$next" ]; then value=("$next"); i=$((i + 1)); fi
   i=$((i + 1))
+  # One of the lipid pair alone is refused as such (both or neither), before resume compares.
+  case "$opt" in --lipid-length|--lipid-fraction) continue ;; esac
   before=$(md5sum "$work/sweep/sweep.json")
   "$bin" sweep --resume "$work/sweep" "$opt" "${value[@]}" --quiet 2>"$work/err" >/dev/null
   rc=$?
@@ -54,6 +57,10 @@ while [ $i -lt ${#every[@]} ]; do
   [ "$before" = "$(md5sum "$work/sweep/sweep.json")" ] ||
     { echo "FAIL: $opt changed sweep.json"; fail=1; }
 done
+"$bin" sweep --resume "$work/sweep" --lipid-length 2 --lipid-fraction 0.5 --quiet 2>"$work/err" \
+  >/dev/null
+[ $? = 2 ] && grep -q -- "^error: --lipid-length .*was written by a run with" "$work/err" ||
+  { echo "FAIL: sweep --resume with the lipid pair:"; cat "$work/err"; fail=1; }
 "$bin" sweep --resume "$work/sweep" --fast --quiet 2>"$work/err" >/dev/null
 [ $? = 2 ] && grep -q -- "^error: --fast true:" "$work/err" || { echo "FAIL: --fast"; fail=1; }
 exit $fail
