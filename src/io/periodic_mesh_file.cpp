@@ -1,6 +1,6 @@
 #include "io/periodic_mesh_file.h"
 
-#include "io/atomic_file.h"
+#include "common/atomic_file.h"
 
 namespace cmcsurf {
 

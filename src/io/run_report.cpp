@@ -300,6 +300,7 @@ nlohmann::json run_report(const RunParams& p, const RunResult& r, int threads) {
   for (const ReportKey& k : report_key_table())
     if (k.convention) conventions[std::string(k.key)] = std::string(k.help);
   j["conventions"] = conventions;
+  if (r.geometry) add_cell_geometry_conventions(j);
   return j;
 }
 
