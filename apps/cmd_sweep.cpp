@@ -245,8 +245,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   hooks.resuming = [&](const SweepMember& m, const Checkpoint& c) {
     if (!cmd.quiet)
       std::cerr << fmt::format("[{}/{}] {}: resuming before step {} ({} on {}^3)\n",
-                               m.index + 1, m.count, m.name, c.step + 1, run_stage_name(c.cursor.stage),
-                               c.cursor.grid);
+                               m.index + 1, m.count, m.name, c.step + 1,
+                               run_stage_name(c.cursor.stage), c.cursor.grid);
   };
   hooks.kept = [&](const SweepMember& m) {
     if (!cmd.quiet)

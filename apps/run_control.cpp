@@ -126,8 +126,8 @@ int print_interrupted(const fs::path& dir, const Checkpoint& c, const Interrupte
     std::cerr << fmt::format(
         "\ninterrupted by {} before step {} ({} on {}^3, {:.1f} s of work kept in {})\n"
         "resume with: {}\n",
-        signal_name(SignalGuard::received()), c.step + 1, run_stage_name(c.cursor.stage), c.cursor.grid,
-        c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
+        signal_name(SignalGuard::received()), c.step + 1, run_stage_name(c.cursor.stage),
+        c.cursor.grid, c.elapsed, (dir / kCheckpointFileName).string(), resume_command);
   return SignalGuard::exit_code();
 }
 

@@ -420,9 +420,10 @@ class Evolution {
         result_.stop_reason = "settled";
         break;
       }
-      if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max);
+      if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max, r.energy);
     }
     anderson_.reset();  // its history (16 + 8 depth bytes per cell) is not needed after
+    unmixed_ = Field();
     if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
@@ -453,15 +454,27 @@ class Evolution {
 
   // Mixes the field of the step just taken with the last ones at the same dt (the map
   // x -> G(x) is fixed only while dt is); any other step starts the history again.
-  void accelerate(bool fixed_dt) {
+  // energy_unmixed: the step's field's energy (its StepRecord's).
+  void accelerate(bool fixed_dt, double energy_unmixed) {
     if (!fixed_dt) {
       anderson_->reset();
       return;
     }
     Field& phi = result_.phi;
     const Field* before = stepper_.phi_before_step();
+    if (unmixed_.n() != phi.n()) unmixed_ = Field::like(phi, 0);
+    copy_interior(phi, unmixed_);
     if (anderson_->mix(before ? *before : previous_, phi) > 0) {
       phi.exchange_halo();
+      // The safeguard: the step map lowers the energy, and so does a mix that stays in its
+      // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
+      // new handles, chi -8 -> -32, without it); the step's own field is kept.
+      if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
+        copy_interior(unmixed_, phi);
+        phi.exchange_halo();
+        anderson_->reset();
+        return;
+      }
       // The stepper's nu and extrapolation history belong to the unmixed field; started
       // again from the mixed one, the next step takes fewer steps to the same end (13 finest
       // steps against 17 for G at 0.5, 128^3).
@@ -536,6 +549,7 @@ class Evolution {
   bool resuming_ = false;
   std::optional<ComponentConstraint> components_;
   std::optional<AndersonMixer> anderson_;
+  Field unmixed_;  // the step's field while a mix is tried
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where
