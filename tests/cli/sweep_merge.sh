@@ -7,6 +7,7 @@
 set -u
 bin="$1"
 support="$(cd "$(dirname "$0")/../support" && pwd)"  # report_keys.py: the timing keys
+export CMCSURF_BIN="$bin"  # report_keys.py reads the timing keys from its `schema --json`
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
