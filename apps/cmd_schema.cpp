@@ -15,7 +15,9 @@ CommandFn add_schema_command(CLI::App& root) {
   app->group("");  // hidden
   auto json = std::make_shared<bool>(false);
   app->add_flag("--json", *json, "Print the tables as JSON (the only form)")->required();
-  return {app, []() -> int {
+  // The flag's bool lives as long as the command (CLI11 writes it while parsing).
+  return {app, [json]() -> int {
+            (void)json;
             std::fputs(report_schema_json().c_str(), stdout);
             return std::fflush(stdout) == 0 ? 0 : 1;
           }};
