@@ -94,6 +94,18 @@ TEST(ReportSchema, DumpHoldsEveryTable) {
   EXPECT_EQ(j.at("sweep_json_keys")[0].at("path"), "members");
 }
 
+// The --properties stage's summary keys are generated entries: each quantity, its N/2 error
+// where the stage computes one, and the nodal twin's (pipeline/properties_stage.cpp).
+TEST(ReportSchema, PropertiesSummaryKeysAreDeclared) {
+  for (const char* key : {"properties_youngs_modulus", "properties_youngs_modulus_error",
+                          "properties_nodal_zener_ratio_error", "properties_specific_surface",
+                          "properties_nodal_wall_shear_stress", "properties_ramp"})
+    EXPECT_NO_THROW(report_key(key)) << key;
+  EXPECT_THROW(report_key("properties_specific_surface_error"), std::logic_error);
+  EXPECT_EQ(report_key("properties_nodal_permeability").unit, "cell size²");
+  EXPECT_EQ(report_key("properties_nodal_youngs_modulus_error").label, "nodal E / E_s error");
+}
+
 // The path of the dictionary (or list of dictionaries: "x[]") that holds `path`; "" at the top.
 std::string parent_of(std::string_view path) {
   const std::size_t dot = path.rfind('.');
@@ -127,10 +139,11 @@ TEST(ReportSchema, NestedKeysSitInDeclaredDictionaries) {
         EXPECT_TRUE(paths.count(parent)) << k.path << ": its dictionary is not declared";
       }
       if (k.like.empty()) continue;
-      if (report && k.like.find('.') == std::string_view::npos)
+      if (report && k.like.find('.') == std::string_view::npos) {
         EXPECT_NO_THROW(report_key(k.like)) << k.path;  // a top-level dictionary
-      else
+      } else {
         EXPECT_TRUE(paths.count(std::string(k.like))) << k.path;
+      }
     }
   }
   // What the pages and Python read.
