@@ -108,75 +108,37 @@ void print_member_line(const nlohmann::json& r, int index, int count, const std:
       r.value("converged", false) ? "" : " NOT converged");
 }
 
-// What the sweep writes besides the members' fields, kept in sweep.json (and each member's
-// checkpoint): `sweep --resume DIR` alone writes the folder the uninterrupted sweep would have.
-// Never a program to run (the former --python, --plot-script): a data file that someone else
-// may have written restores options, it never chooses an executable.
-nlohmann::json output_options(const SweepCommand& cmd) {
-  nlohmann::json outputs = {{"threads", cmd.threads},
-                             {"float32", cmd.float32},
-                             {"no_preview", cmd.pages.no_preview},
-                             {"no_report", cmd.pages.no_report},
-                             {"no_plot", cmd.no_plot},
-                             {"plot_diffuse", cmd.plot_diffuse},
-                             {"checkpoint_every", cmd.checkpoints.every}};
-  add_properties_outputs(outputs, cmd.properties);
-  return outputs;
-}
-
-// sweep --resume: the sweep that sweep.json describes (its ranges checked as the command
-// line's); options given must agree with it, output options not given take its values.
+// sweep --resume: the sweep that sweep.json describes (pipeline/run_resume.h: its ranges
+// checked as the command line's, the options given agreeing with it); output options not
+// given take its values.
 SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCommand& cmd,
                           const fs::path& dir) {
   const fs::path file = dir / "sweep.json";
-  SweepParams sp;
-  nlohmann::json j;
-  SweepJson saved;  // checked: ranges, member names; no executables among its outputs
-  try {
-    j = read_json_file(file);
-    saved = parse_sweep_json(j);
-    sp = saved.sweep;
-    sp.run = resumed_params(cmd.strings, given.run, j.at("parameters"), file);
-  } catch (const UsageError&) {
-    throw;
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
-  } catch (const std::exception& e) {
-    throw UsageError(fmt::format("--resume {}: no sweep to resume ({})", dir.string(), e.what()));
-  }
-  try {
-    check_sweep_params(sp);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("--resume: {}: {}", file.string(), e.what()));
-  }
-  if (j.contains("outputs")) {
-    if (!j["outputs"].is_object())
-      throw UsageError(fmt::format("--resume: {}: 'outputs' is not an object", file.string()));
-    const OutputRestorer r(app, saved.outputs, file);
-    r.restore("--threads", "threads", cmd.threads);
-    if (const std::string why = check_threads(cmd.threads); !why.empty())
-      throw UsageError(fmt::format("--resume: {}: threads: {}", file.string(), why));
-    r.restore("--float32", "float32", cmd.float32);
-    r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
-    r.restore("--no-report", "no_report", cmd.pages.no_report);
-    r.restore("--no-plot", "no_plot", cmd.no_plot);
-    r.restore("--plot-diffuse", "plot_diffuse", cmd.plot_diffuse);
-    restore_properties_outputs(r, cmd.properties);
-    r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
-    if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
-      throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
-                                   file.string(), cmd.checkpoints.every));
-  }
-  auto differs = [&](const char* option, bool d) {
-    if (d && app.count(option))
-      throw UsageError(fmt::format("{}: differs from the sweep in {} ({}); a resumed sweep keeps "
-                                   "its members (leave the option out)",
-                                   option, file.string(), option));
-  };
-  differs("--surface", given.surfaces != sp.surfaces);
-  differs("--volume-fractions", given.fractions != sp.fractions);
-  differs("--continuation", given.continuation != sp.continuation);
-  return sp;
+  SweepResumeNames names;
+  names.surfaces_given = app.count("--surface") > 0;
+  names.fractions_given = app.count("--volume-fractions") > 0;
+  names.continuation_given = app.count("--continuation") > 0;
+  const SweepJson saved = as_usage([&] {
+    return cmcsurf::resumed_sweep(
+        dir, given, names, [&](const nlohmann::json& parameters, const fs::path& from) {
+          return resumed_params(cmd.strings, given.run, parameters, from);
+        });
+  });
+  const OutputRestorer r(app, saved.outputs, file);
+  r.restore("--threads", "threads", cmd.threads);
+  if (const std::string why = check_threads(cmd.threads); !why.empty())
+    throw UsageError(fmt::format("--resume: {}: threads: {}", file.string(), why));
+  r.restore("--float32", "float32", cmd.float32);
+  r.restore("--no-preview", "no_preview", cmd.pages.no_preview);
+  r.restore("--no-report", "no_report", cmd.pages.no_report);
+  r.restore("--no-plot", "no_plot", cmd.no_plot);
+  r.restore("--plot-diffuse", "plot_diffuse", cmd.plot_diffuse);
+  restore_properties_outputs(r, cmd.properties);
+  r.restore("--checkpoint-every", "checkpoint_every", cmd.checkpoints.every);
+  if (!(cmd.checkpoints.every >= 0.0 && cmd.checkpoints.every <= 1e9))
+    throw UsageError(fmt::format("--resume: {}: checkpoint_every {} outside [0, 1e9]",
+                                 file.string(), cmd.checkpoints.every));
+  return saved.sweep;
 }
 
 // The sweep driver (pipeline/sweep_driver.h) with the command line's options and printing.
@@ -221,8 +183,8 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
   job.page = !cmd.pages.no_report;
   job.figures = !cmd.no_plot;
   job.diffuse = cmd.plot_diffuse;
-  job.outputs = output_options(cmd);
   job.checkpoint_every = cmd.checkpoints.every;
+  job.outputs = sweep_outputs_json(job, cmd.properties.porosity);
   job.resume_command = fmt::format("{} sweep --resume {}", shell_quote(self_executable()),
                                    shell_quote(dir.string()));
   if (world->distributed())
@@ -248,7 +210,7 @@ int sweep(SweepCommand& cmd, const CLI::App& app) {
                                m.index + 1, m.count, m.name, c.step + 1,
                                run_stage_name(c.cursor.stage), c.cursor.grid);
   };
-  hooks.kept = [&](const SweepMember& m) {
+  hooks.kept = [&](const SweepMember& m, const nlohmann::json&) {
     if (!cmd.quiet)
       std::cerr << fmt::format("[{}/{}] {}: complete, kept\n", m.index + 1, m.count, m.name);
   };

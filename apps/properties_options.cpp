@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "cli_common.h"
+#include "driver/run_finish.h"
 
 namespace cmcsurf::cli {
 
@@ -46,13 +47,7 @@ void finish_properties_options(PropertiesOptions& options, const std::string& su
 }
 
 void add_properties_outputs(nlohmann::json& outputs, const PropertiesOptions& options) {
-  const PropertiesStage& stage = options.stage;
-  outputs["properties"] = stage.enabled;
-  outputs["properties_solid"] = stage.solid;
-  if (!options.porosity.empty()) outputs["properties_porosity"] = options.porosity;
-  if (!std::isnan(stage.thickness)) outputs["properties_thickness"] = stage.thickness;
-  outputs["properties_nodal"] = stage.nodal;
-  outputs["properties_grid_check"] = stage.grid_check;
+  outputs.update(properties_outputs_json(options.stage, options.porosity));
 }
 
 void restore_properties_outputs(const OutputRestorer& r, PropertiesOptions& options) {

@@ -34,8 +34,6 @@ class SignalGuard {
   static int exit_code() { return 128 + received(); }
 };
 
-// The default of --checkpoint-every: runs shorter than this write none (a signal still does).
-constexpr double kDefaultCheckpointEvery = 120.0;
 
 struct CheckpointOptions {
   double every = kDefaultCheckpointEvery;  // seconds; 0: no periodic checkpoints

@@ -83,6 +83,9 @@ def _options_doc(keys: Sequence[str]) -> str:
 
 
 _R = TypeVar("_R")
+# The key under which a body finds the names of the arguments its caller gave (a resumed sweep
+# compares those with the sweep it continues); no keyword can have this name.
+_GIVEN = "-given"
 
 
 def _signature(leading: Sequence[inspect.Parameter], scopes: Sequence[str],
@@ -104,8 +107,11 @@ def _signature(leading: Sequence[inspect.Parameter], scopes: Sequence[str],
                 bound = sig.bind(*args, **kwargs)
             except TypeError as e:
                 raise TypeError(f"{body.__name__}() {e}") from None
+            given = set(bound.arguments)
             bound.apply_defaults()
-            return body(dict(bound.arguments))
+            arguments = dict(bound.arguments)
+            arguments[_GIVEN] = given
+            return body(arguments)
 
         call.__name__ = call.__qualname__ = body.__name__
         call.__module__ = body.__module__
@@ -135,6 +141,22 @@ _PROPERTIES = [
     _P("properties_thickness", _P.KEYWORD_ONLY, default=None, annotation=Optional[float]),
     _P("properties_grid_check", _P.KEYWORD_ONLY, default=False, annotation=bool),
 ]
+
+
+# sweep()'s folder (``cmcsurf sweep --out``, ``--resume``, ``--force`` and its output options).
+_SWEEP_FOLDER = [
+    _P("out", _P.KEYWORD_ONLY, default=None, annotation=Optional[Union[str, os.PathLike]]),
+    _P("resume", _P.KEYWORD_ONLY, default=False, annotation=Union[bool, str, os.PathLike]),
+    _P("force", _P.KEYWORD_ONLY, default=False, annotation=bool),
+    _P("float32", _P.KEYWORD_ONLY, default=False, annotation=bool),
+    _P("preview", _P.KEYWORD_ONLY, default=True, annotation=bool),
+    _P("report", _P.KEYWORD_ONLY, default=True, annotation=bool),
+    _P("plot", _P.KEYWORD_ONLY, default=True, annotation=bool),
+    _P("plot_diffuse", _P.KEYWORD_ONLY, default=False, annotation=bool),
+    _P("checkpoint_every", _P.KEYWORD_ONLY, default=_cmcsurf.default_checkpoint_every(),
+       annotation=float),
+]
+_SWEEP_OUTPUTS = ("float32", "preview", "report", "plot", "plot_diffuse", "checkpoint_every")
 
 
 def _properties_stage(properties: bool, nodal: bool, solid: str,
@@ -284,7 +306,7 @@ def measure(
              _parameter(_option("grid"), _P.POSITIONAL_OR_KEYWORD),
              _parameter(_option("epsilon"), _P.POSITIONAL_OR_KEYWORD),
              _P("continuation", _P.KEYWORD_ONLY, default=False, annotation=bool)],
-            ("grid", "solver"), [*_PROPERTIES, _THREADS, _PROGRESS],
+            ("grid", "solver"), [*_PROPERTIES, *_SWEEP_FOLDER, _THREADS, _PROGRESS],
             Tuple[List[Result], Dict[str, np.ndarray]])
 def sweep(arguments: Dict[str, Any]) -> Tuple[List[Result], Dict[str, np.ndarray]]:
     """Families of CMC surfaces over volume fraction (Fig. 11), as ``cmcsurf sweep``.
@@ -301,20 +323,66 @@ def sweep(arguments: Dict[str, Any]) -> Tuple[List[Result], Dict[str, np.ndarray
     table of sweep.csv as a dict of columns (float64 arrays for numbers, None as NaN; object
     arrays for strings and booleans).
     ``properties``, ``properties_*``: ``run``'s, for every member (sweep.csv's
-    ``properties_*`` columns in the table; the chart is the command line's only).
+    ``properties_*`` columns in the table).
+
+    ``out``: also write the sweep's folder, as ``cmcsurf sweep --out`` does and with the same
+    library code (member folders, sweep.csv, sweep.json, families.png/.svg, gallery.png,
+    report.html; with ``properties`` the properties chart); ``force``, ``float32``,
+    ``preview``, ``report``, ``plot``, ``plot_diffuse`` and ``checkpoint_every`` (seconds) are
+    the command's ``--force``, ``--float32``, ``--no-preview``, ``--no-report``, ``--no-plot``,
+    ``--plot-diffuse`` and ``--checkpoint-every``.
+    Each Result's ``.report`` is then its report.json as written (with ``write_seconds``).
+    Ctrl-C (or an exception raised by ``progress``) stops the member within a step and leaves
+    its checkpoint, as a signal stops the command line's sweep; the exception is raised.
+    ``resume=True`` (with ``out``) or ``resume=DIR`` continues such a folder as ``cmcsurf sweep
+    --resume DIR`` does, the command line's or this function's: complete members are kept,
+    an interrupted one goes on from its checkpoint. Arguments given must agree with sweep.json
+    (ValueError names the first that differs); those not given take its values. A resumed
+    sweep's ``results`` hold the members run by this call; the table has every member.
+    Errors the command line reports with exit 2 raise ValueError, others RuntimeError.
     """
     a = arguments
+    given = a[_GIVEN]
+    resume = a["resume"]
+    if resume is not False and resume is not True:  # a folder
+        if a["out"] is not None and os.fspath(a["out"]) != os.fspath(resume):
+            raise ValueError(f"out {os.fspath(a['out'])}: a resumed sweep writes into its own "
+                             f"folder, resume {os.fspath(resume)}")
+        out: Any = resume
+        resuming = True
+    else:
+        out = a["out"]
+        resuming = bool(resume)
+        if resuming and out is None:
+            raise ValueError("resume=True: give the folder, out=DIR (or resume=DIR)")
+    if out is None:
+        for key in ("force", *_SWEEP_OUTPUTS):
+            if key in given:
+                raise TypeError(f"sweep() {key}: only with out= (the folder it describes)")
     stage = _stage_of(a)
+    properties_given = any(k.startswith("properties") for k in given)
     if stage is not None:  # refused before the solves (the checks do not depend on the surface)
         _cmcsurf.check_properties_stage(stage, "G", a["grid"])
-    results, columns = _cmcsurf.sweep(a["surfaces"], a["volume_fractions"], a["continuation"],
-                                      _run_options(a, ("grid", "solver")), a["threads"],
-                                      a["progress"])
-    if stage is not None:
-        columns = _cmcsurf.properties_stage(results, stage, a["threads"])
+    run_options = _run_options(a, ("grid", "solver"))
+    if out is None:
+        results, columns = _cmcsurf.sweep(a["surfaces"], a["volume_fractions"],
+                                          a["continuation"], run_options, a["threads"],
+                                          a["progress"])
+        if stage is not None:
+            columns = _cmcsurf.properties_stage(results, stage, a["threads"])
+        reports = [r.report for r in results]
+    else:
+        # Not given: None, so that a resume takes sweep.json's value.
+        folder = {k: (a[k] if k in given or not resuming else None) for k in _SWEEP_OUTPUTS}
+        folder.update(dir=os.fspath(out), resume=resuming, force=a["force"])
+        if resuming and not properties_given:
+            stage = None
+        results, reports, columns = _cmcsurf.sweep_folder(
+            a["surfaces"], a["volume_fractions"], a["continuation"], run_options, folder, stage,
+            sorted(given), a["threads"], a["progress"])
     table: Dict[str, np.ndarray] = {}
     for key in columns:
-        values = [r.report.get(key) for r in results]
+        values = [r.get(key) for r in reports]
         numeric = all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool))
                       for v in values)
         table[key] = (np.array([np.nan if v is None else v for v in values], dtype=float)

@@ -68,6 +68,14 @@ def measure(phi: Any, options: Dict[str, Any], threads: int) -> Dict[str, Any]: 
 def sweep(surfaces: Union[str, Sequence[str]], fractions: Union[str, Sequence[float]],
           continuation: bool, options: Dict[str, Any], threads: int,
           progress: Progress) -> Tuple[List[Result], List[str]]: ...
+# The sweep driver into folder["dir"] (resume, force, float32, preview, report, plot,
+# plot_diffuse, checkpoint_every; None: sweep.json's or the default); returns (the Results
+# run here, every member's report, sweep.csv's columns).
+def default_checkpoint_every() -> float: ...  # --checkpoint-every's default, seconds
+def sweep_folder(surfaces: Union[str, Sequence[str]], fractions: Union[str, Sequence[float]],
+                 continuation: bool, options: Dict[str, Any], folder: Dict[str, Any],
+                 stage: Optional[Dict[str, Any]], given: List[str], threads: int,
+                 progress: Progress) -> Tuple[List[Result], List[Dict[str, Any]], List[str]]: ...
 def mesh(source: Any, options: Dict[str, Any], threads: int) -> Mesh: ...
 def properties(source: Any, options: Dict[str, Any], threads: int) -> Dict[str, Any]: ...
 def volume_mesh(source: Any, out: str, options: Dict[str, Any],

@@ -19,6 +19,8 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <map>
+#include <set>
 #include <type_traits>
 #include <variant>
 #include <optional>
@@ -27,6 +29,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "common/wall_clock.h"
@@ -50,6 +53,8 @@
 #include "model/run_options.h"
 #include "model/run_schema.h"
 #include "driver/run_finish.h"
+#include "driver/sweep_driver.h"
+#include "pipeline/run_resume.h"
 #include "schema/report_schema.h"
 #include "pipeline/run_outputs.h"
 #include "report/run_page.h"
@@ -435,6 +440,33 @@ class Interaction {
   // A sweep's member from now on (its name goes into the progress dicts).
   void set_member(const std::string& name) { member_ = name; }
 
+  // The sweep driver's hooks (driver/sweep_driver.h), called without the GIL; they must not
+  // throw through the driver, so a Python error waits in `pending` and the next stop check
+  // stops the member there, leaving its checkpoint as a signal does.
+  void step(const StepRecord& r) {
+    py::gil_scoped_acquire gil;
+    if (progress_.is_none() || pending_) return;
+    try {
+      progress_(step_dict(r, member_));
+    } catch (py::error_already_set& e) {
+      pending_ = e;
+    }
+  }
+  bool stop_requested() {
+    py::gil_scoped_acquire gil;
+    return poll();
+  }
+  // What stopped the sweep, for the interrupted member's report.json ("signal").
+  std::string stop_name() {
+    py::gil_scoped_acquire gil;
+    if (pending_ && pending_->matches(PyExc_KeyboardInterrupt)) return "SIGINT";
+    return "a Python exception in progress";
+  }
+  // Re-raises what stopped a sweep, if anything did.
+  void raise_pending() {
+    if (pending_) throw *pending_;
+  }
+
   RunContext context() {
     RunContext c;
     c.progress = [this](const StepRecord& r) {
@@ -523,6 +555,11 @@ struct Result {
 
   Result(const RunParams& p, RunResult r, int t, nlohmann::json x, FinalFieldCache c)
       : params(p), result(std::move(r)), threads(t), extra(std::move(x)), cache(std::move(c)) {}
+  // A sweep member the driver finished: its quality stage ran and its report.json is written.
+  Result(const RunParams& p, RunResult r, int t, nlohmann::json x, CmcQuality q,
+         nlohmann::json written)
+      : params(p), result(std::move(r)), quality(std::move(q)), threads(t), extra(std::move(x)),
+        report(std::move(written)) {}
 
   // The quality stage (measure_cmc_quality), then the report: what `cmcsurf run` does after
   // the solve.
@@ -751,8 +788,9 @@ py::object measure(py::handle phi, const py::dict& options, py::handle threads) 
   return to_python(j);
 }
 
-py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle continuation,
-                const py::dict& options, py::handle threads, py::object progress) {
+// The sweep's members and run options, checked as `cmcsurf sweep`'s.
+SweepParams sweep_params(py::handle surfaces_arg, py::handle fractions_arg,
+                         py::handle continuation, const py::dict& options) {
   const std::string surfaces =
       list_option(surfaces_arg, "surfaces", "a str \"P,D,G\" or a sequence of str",
                   [](py::handle e, const std::string& key) { return string_option(e, key); });
@@ -780,6 +818,25 @@ py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle co
   } catch (const std::invalid_argument& e) {
     throw py::value_error(fmt::format("surfaces, volume_fractions: {}", e.what()));
   }
+  return sp;
+}
+
+// The columns of sweep.csv of `reports`, in its order.
+std::vector<std::string> sweep_columns(const std::vector<nlohmann::json>& reports) {
+  const std::string csv = sweep_csv(reports);
+  const std::string header = csv.substr(0, csv.find('\n'));
+  std::vector<std::string> columns;
+  for (std::size_t pos = 0; pos <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', pos), header.size());
+    columns.push_back(header.substr(pos, comma - pos));
+    pos = comma + 1;
+  }
+  return columns;
+}
+
+py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle continuation,
+                const py::dict& options, py::handle threads, py::object progress) {
+  const SweepParams sp = sweep_params(surfaces_arg, fractions_arg, continuation, options);
   refuse_if_too_large(sp.run);
   ThreadScope scope(threads);
   Interaction ia(std::move(progress));
@@ -802,16 +859,7 @@ py::tuple sweep(py::handle surfaces_arg, py::handle fractions_arg, py::handle co
         c);
     return 0;
   });
-  // The columns of sweep.csv, in its order.
-  const std::string csv = sweep_csv(reports);
-  std::vector<std::string> columns;
-  std::string header = csv.substr(0, csv.find('\n'));
-  for (std::size_t pos = 0; pos <= header.size();) {
-    const std::size_t comma = std::min(header.find(',', pos), header.size());
-    columns.push_back(header.substr(pos, comma - pos));
-    pos = comma + 1;
-  }
-  return py::make_tuple(results, columns);
+  return py::make_tuple(results, sweep_columns(reports));
 }
 
 // The keyword arguments of mesh() (`cmcsurf mesh`'s options with '_' for '-'; None: not
@@ -1042,6 +1090,167 @@ py::list properties_stage(const py::list& results, const py::dict& o, py::handle
   return columns;
 }
 
+// sweep(out=...) and sweep(resume=...): the library's sweep driver (driver/sweep_driver.h), so
+// the folder is the one `cmcsurf sweep --out` writes and `--resume` continues. `folder`: dir,
+// resume, force, and the output options float32, preview, report, plot, plot_diffuse,
+// checkpoint_every (None: not given, so a resume takes sweep.json's value, a new sweep the
+// command line's default); stage: the --properties stage's options or None; given: the
+// keywords the caller gave (a resume compares those with sweep.json). Returns (results of the
+// members run here, every member's report in sweep order, sweep.csv's columns).
+py::tuple sweep_folder(py::handle surfaces_arg, py::handle fractions_arg, py::handle continuation,
+                       const py::dict& options, const py::dict& folder, py::handle stage_arg,
+                       const std::vector<std::string>& given_list, py::handle threads_arg,
+                       py::object progress) {
+  const std::filesystem::path dir = path_option(folder["dir"], "out");
+  const bool resuming = bool_option(folder["resume"], "resume");
+  const bool force = bool_option(folder["force"], "force");
+  const std::set<std::string> given(given_list.begin(), given_list.end());
+  SweepParams sp = sweep_params(surfaces_arg, fractions_arg, continuation, options);
+  nlohmann::json saved = nlohmann::json::object();  // sweep.json's outputs
+  if (resuming) {
+    SweepResumeNames names;
+    names.resume = "resume";
+    names.surfaces = "surfaces";
+    names.fractions = "volume_fractions";
+    names.continuation = "continuation";
+    names.surfaces_given = given.count("surfaces") > 0;
+    names.fractions_given = given.count("volume_fractions") > 0;
+    names.continuation_given = given.count("continuation") > 0;
+    const SweepJson resumed = resumed_sweep(  // OptionError: ValueError
+        dir, sp, names, [&](const nlohmann::json& parameters, const std::filesystem::path& f) {
+          return resumed_run_params(
+              sp.run, parameters, f, [&](const RunOption& o) { return given.count(o.key) > 0; },
+              [](const RunOption& o) { return std::string(o.key); });
+        });
+    sp = resumed.sweep;
+    saved = resumed.outputs;
+  }
+  // An output option: given, else sweep.json's (a resume), else the command line's default.
+  auto output = [&](const char* keyword, const char* key, bool negated, bool fallback) {
+    if (!folder[keyword].is_none()) return bool_option(folder[keyword], keyword);
+    if (saved.contains(key) && saved[key].is_boolean()) return saved[key].get<bool>() != negated;
+    return fallback;
+  };
+  PropertiesStage stage;
+  std::string porosity;  // as sweep.json keeps --properties-porosity's text
+  if (!stage_arg.is_none()) {
+    stage = stage_options(py::cast<py::dict>(stage_arg));
+  } else if (resuming && saved.value("properties", false)) {
+    stage.enabled = true;
+    stage.solid = saved.value("properties_solid", stage.solid);
+    stage.nodal = saved.value("properties_nodal", false);
+    stage.grid_check = saved.value("properties_grid_check", false);
+    stage.thickness = saved.value("properties_thickness", stage.thickness);
+    porosity = saved.value("properties_porosity", std::string());
+    try {
+      stage.porosities = parse_properties_porosities(porosity);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(fmt::format("resume: {}: {}", (dir / "sweep.json").string(),
+                                        e.what()));
+    }
+  }
+  if (!stage_arg.is_none() && !stage.porosities.empty())
+    porosity = fmt::format("{}", fmt::join(stage.porosities, ","));
+  if (stage.enabled) {
+    try {
+      stage_properties_request(stage, sp.surfaces.front(), sp.run.grid);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+  }
+  refuse_if_too_large(sp.run);
+  py::object threads = py::reinterpret_borrow<py::object>(threads_arg);
+  if (resuming && given.count("threads") == 0 && saved.contains("threads") &&
+      saved["threads"].is_number_integer())
+    threads = py::int_(saved["threads"].get<int>());
+  ThreadScope scope(threads);
+  const auto world = Decomposition::world();
+  SweepJob job;
+  job.sweep = sp;
+  job.dir = dir;
+  job.resuming = resuming;
+  job.force = force;
+  job.plan = plan_groups(0, sp, *world);  // one group of this process
+  job.member.threads = scope.count();
+  job.member.float32 = output("float32", "float32", false, false);
+  job.member.properties = stage;
+  job.preview = output("preview", "no_preview", true, true);
+  job.page = output("report", "no_report", true, true);
+  job.figures = output("plot", "no_plot", true, true);
+  job.diffuse = output("plot_diffuse", "plot_diffuse", false, false);
+  // --checkpoint-every: given, else sweep.json's, else the command line's default.
+  job.checkpoint_every = kDefaultCheckpointEvery;
+  if (!folder["checkpoint_every"].is_none()) {
+    job.checkpoint_every = real_option(folder["checkpoint_every"], "checkpoint_every");
+    if (!(job.checkpoint_every >= 0.0 && job.checkpoint_every <= 1e9))
+      throw py::value_error(fmt::format("checkpoint_every: got {}; accepted: 0 to 1e9 seconds",
+                                        job.checkpoint_every));
+  } else if (saved.contains("checkpoint_every") && saved["checkpoint_every"].is_number()) {
+    job.checkpoint_every = saved["checkpoint_every"].get<double>();
+  }
+  job.outputs = sweep_outputs_json(job, porosity);
+  job.resume_command =
+      fmt::format("cmcsurf.sweep(resume={})", std::string(py::repr(py::str(dir.string()))));
+  // One writer, and only into a folder that is ours (or new, or empty), before any work.
+  FolderClaim claim;
+  try {
+    claim = claim_output_folder(
+        dir, {.kind = "sweep", .option = resuming ? "resume" : "out", .force = force});
+  } catch (const FolderRefused& e) {
+    if (e.usage()) throw py::value_error(e.what());
+    throw;
+  }
+  Interaction ia(std::move(progress));
+  std::vector<std::shared_ptr<Result>> results;
+  std::map<int, nlohmann::json> reports;  // by member index: run here or kept
+  std::string errors;
+  std::vector<std::string> notices;
+  SweepHooks hooks;
+  hooks.notice = [&](const std::string& text) { notices.push_back(text); };
+  hooks.warning = [&](const std::string& text) { notices.push_back(text); };
+  hooks.error = [&](const std::string& text) { errors += text; };
+  hooks.starting = [&](const SweepMember& m) { ia.set_member(m.name); };
+  hooks.kept = [&](const SweepMember& m, const nlohmann::json& report) {
+    reports[m.index] = report;
+  };
+  hooks.finished = [&](const SweepMember& m, const nlohmann::json& report) {
+    reports[m.index] = report;
+  };
+  hooks.result = [&](const SweepMember& m, const RunResult& r, const CmcQuality& q,
+                     const nlohmann::json& report) {
+    results.push_back(std::make_shared<Result>(m.params, r, scope.count(),
+                                               nlohmann::json{{"volume_fraction_target", m.alpha},
+                                                              {"member", m.name},
+                                                              {"started_from", m.started_from}},
+                                               q, report));
+  };
+  hooks.step = [&](const StepRecord& r) { ia.step(r); };
+  hooks.stop_requested = [&] { return ia.stop_requested(); };
+  hooks.stop_code = [] { return 130; };  // as a SIGINT's
+  hooks.signal_name = [&] { return ia.stop_name(); };
+  SweepOutcome outcome;
+  {
+    py::gil_scoped_release release;
+    outcome = drive_sweep(job, hooks);
+  }
+  for (const std::string& text : notices)
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  ia.raise_pending();  // KeyboardInterrupt, or what progress raised: the member's checkpoint kept
+  // The command line's message, without its "error: " and newline.
+  std::string message = errors;
+  if (message.rfind("error: ", 0) == 0) message.erase(0, 7);
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  if (outcome.exit_code == 2) throw py::value_error(message);
+  if (outcome.exit_code != 0) throw std::runtime_error(message);
+  std::vector<nlohmann::json> all;
+  py::list dicts;
+  for (const auto& [index, report] : reports) {
+    all.push_back(report);
+    dicts.append(to_python(report));
+  }
+  return py::make_tuple(results, dicts, sweep_columns(all));
+}
+
 // cmcsurf scattering of a Result or an (N, N, N) field (science/scattering.h): the dictionary
 // of scattering.json, with the columns of reflections.csv ("reflections") and saxs.csv
 // ("saxs") as NumPy arrays.
@@ -1251,6 +1460,10 @@ PYBIND11_MODULE(_cmcsurf, m) {
   m.def("measure", &measure, py::arg("phi"), py::arg("options"), py::arg("threads"));
   m.def("sweep", &sweep, py::arg("surfaces"), py::arg("fractions"), py::arg("continuation"),
         py::arg("options"), py::arg("threads"), py::arg("progress"));
+  m.def("default_checkpoint_every", [] { return kDefaultCheckpointEvery; });
+  m.def("sweep_folder", &sweep_folder, py::arg("surfaces"), py::arg("fractions"),
+        py::arg("continuation"), py::arg("options"), py::arg("folder"), py::arg("stage"),
+        py::arg("given"), py::arg("threads"), py::arg("progress"));
   m.def("mesh", &mesh, py::arg("source"), py::arg("options"), py::arg("threads"));
   m.def("properties", &properties, py::arg("source"), py::arg("options"), py::arg("threads"));
   m.def("volume_mesh", &volume_mesh, py::arg("source"), py::arg("out"), py::arg("options"),

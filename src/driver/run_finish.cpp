@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 
 #include "common/wall_clock.h"
@@ -16,6 +17,16 @@
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
+
+nlohmann::json properties_outputs_json(const PropertiesStage& stage, const std::string& porosity) {
+  nlohmann::json outputs = {{"properties", stage.enabled},
+                            {"properties_solid", stage.solid},
+                            {"properties_nodal", stage.nodal},
+                            {"properties_grid_check", stage.grid_check}};
+  if (!porosity.empty()) outputs["properties_porosity"] = porosity;
+  if (!std::isnan(stage.thickness)) outputs["properties_thickness"] = stage.thickness;
+  return outputs;
+}
 
 FinishedRun finish_run_folder(const std::filesystem::path& dir, const RunParams& p,
                               const RunResult& r, RunOutputs& outputs,

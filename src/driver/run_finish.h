@@ -32,6 +32,10 @@ struct RunFolderOptions {
   const Decomposition* layout = nullptr;
 };
 
+// The --properties stage's output options as a checkpoint's and sweep.json's "outputs" keep
+// them (properties, properties_*); `porosity`: --properties-porosity as given ("": none).
+nlohmann::json properties_outputs_json(const PropertiesStage& stage, const std::string& porosity);
+
 // What finish_run_folder did, on the process that wrote the folder (`writer`).
 struct FinishedRun {
   bool writer = false;    // this process wrote report.json and the files beside it

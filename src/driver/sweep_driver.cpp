@@ -167,6 +167,18 @@ nlohmann::json sweep_summary(const SweepParams& sp, const nlohmann::json& output
   return summary;
 }
 
+nlohmann::json sweep_outputs_json(const SweepJob& job, const std::string& porosity) {
+  nlohmann::json outputs = {{"threads", job.member.threads},
+                            {"float32", job.member.float32},
+                            {"no_preview", !job.preview},
+                            {"no_report", !job.page},
+                            {"no_plot", !job.figures},
+                            {"plot_diffuse", job.diffuse},
+                            {"checkpoint_every", job.checkpoint_every}};
+  outputs.update(properties_outputs_json(job.member.properties, porosity));
+  return outputs;
+}
+
 // One process runs every member; under mpirun each group of processes runs its members
 // (decomposed over the group, its rank 0 writing their folders as `run` does) and world rank 0
 // gathers the rows for sweep.csv, the figures and sweep.json.
@@ -267,6 +279,7 @@ SweepOutcome drive_sweep(const SweepJob& job, const SweepHooks& hooks) {
       const FinishedRun finished = finish_run_folder(dir / m.name, m.params, r, outputs, o,
                                                      std::move(extra));
       if (finished.writer) {
+        if (hooks.result) hooks.result(m, r, outputs.quality, finished.report);
         GroupRows::Row row;
         row.index = m.index;
         row.report = finished.report;
@@ -340,7 +353,8 @@ SweepOutcome drive_sweep(const SweepJob& job, const SweepHooks& hooks) {
         } catch (const std::exception& e) {
           failure = e.what();
         }
-        if (world_root && failure.empty() && hooks.kept) hooks.kept(m);
+        if (world_root && failure.empty() && hooks.kept)
+          hooks.kept(m, mine.rows.back().report);
       }
       agree(failure.empty() ? 0 : kFailed, failure);
     }

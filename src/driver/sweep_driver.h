@@ -69,9 +69,15 @@ struct SweepHooks {
   std::function<void(const std::string&)> error;
   std::function<void(const SweepMember&)> starting;
   std::function<void(const SweepMember&, const Checkpoint&)> resuming;
-  std::function<void(const SweepMember&)> kept;
+  // A complete member a resumed sweep keeps, with its report.json.
+  std::function<void(const SweepMember&, const nlohmann::json& report)> kept;
   // A member this process's group ran, finished (its report.json written).
   std::function<void(const SweepMember&, const nlohmann::json& report)> finished;
+  // The same member's result and quality stage, for a caller that keeps them (Python's
+  // sweep(out=...) returns them as the in-memory sweep does); on the group's writer.
+  std::function<void(const SweepMember&, const RunResult&, const CmcQuality&,
+                     const nlohmann::json& report)>
+      result;
   // A member another group ran, from its report.json.
   std::function<void(const nlohmann::json& report, int index, int count, int group)> gathered;
   std::function<void(const StepRecord&)> step;  // every process; the command line's Progress
@@ -91,6 +97,12 @@ struct SweepOutcome {
   double wall_seconds = 0.0;
   bool families_figure = false;  // families.png written
 };
+
+// sweep.json's "outputs" (and each member checkpoint's) of `job`: what the sweep writes besides
+// the members' fields, so that a resume alone writes the folder the uninterrupted sweep would
+// have. `porosity`: --properties-porosity as given ("": none). Never a program to run: a data
+// file that someone else may have written restores options, it never chooses an executable.
+nlohmann::json sweep_outputs_json(const SweepJob& job, const std::string& porosity);
 
 // Runs the sweep into job.dir (claimed by the caller), collective over the world's processes.
 // Setup problems (the folder) end every process with 1 before any member runs.

@@ -183,6 +183,44 @@ RunParams resumed_run_params(const RunParams& given, const nlohmann::json& saved
   return p;
 }
 
+SweepJson resumed_sweep(
+    const fs::path& dir, const SweepParams& given, const SweepResumeNames& names,
+    const std::function<RunParams(const nlohmann::json&, const fs::path&)>& run_params) {
+  const fs::path file = dir / "sweep.json";
+  nlohmann::json j;
+  SweepJson saved;  // checked: ranges, member names; no executables among its outputs
+  try {
+    j = read_report(file);
+    saved = parse_sweep_json(j);
+    j.at("parameters");
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(fmt::format("{}: {}: {}", names.resume, file.string(), e.what()));
+  } catch (const std::exception& e) {
+    throw OptionError(
+        fmt::format("{} {}: no sweep to resume ({})", names.resume, dir.string(), e.what()));
+  }
+  saved.sweep.run = run_params(j.at("parameters"), file);
+  try {
+    check_sweep_params(saved.sweep);
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(fmt::format("{}: {}: {}", names.resume, file.string(), e.what()));
+  }
+  if (j.contains("outputs") && !j["outputs"].is_object())
+    throw OptionError(
+        fmt::format("{}: {}: 'outputs' is not an object", names.resume, file.string()));
+  auto differs = [&](const std::string& option, bool given_here, bool d) {
+    if (d && given_here)
+      throw OptionError(fmt::format("{}: differs from the sweep in {} ({}); a resumed sweep "
+                                    "keeps its members (leave the option out)",
+                                    option, file.string(), option));
+  };
+  const SweepParams& sp = saved.sweep;
+  differs(names.surfaces, names.surfaces_given, given.surfaces != sp.surfaces);
+  differs(names.fractions, names.fractions_given, given.fractions != sp.fractions);
+  differs(names.continuation, names.continuation_given, given.continuation != sp.continuation);
+  return saved;
+}
+
 MemberDecision decide_member(const fs::path& mdir, const SweepMember& m, bool resuming,
                              bool force, FolderClaim& claim, int* removed) {
   MemberDecision d;

@@ -21,6 +21,10 @@
 
 namespace cmcsurf {
 
+// The default of --checkpoint-every (and Python's sweep(checkpoint_every=)): runs shorter than
+// this write none (a signal still does).
+constexpr double kDefaultCheckpointEvery = 120.0;
+
 // The RunContext hooks of a run writing into dir: control() asks for a checkpoint every
 // `every` seconds and stops when `stop_requested` says so (a signal; one decision for all
 // processes under MPI), and checkpoint() writes dir/checkpoint.bin (every process its blocks
@@ -90,6 +94,25 @@ RunParams resumed_run_params(const RunParams& given, const nlohmann::json& saved
                              const std::filesystem::path& file,
                              const std::function<bool(const RunOption&)>& given_option,
                              const std::function<std::string(const RunOption&)>& shown);
+
+// sweep --resume DIR and Python's sweep(resume=...): the sweep that DIR/sweep.json describes,
+// with its ranges checked as a new sweep's. The caller's `run_params(saved, file)` gives the
+// run options (resumed_run_params with its own idea of which were given); the members must
+// agree where given. Messages name the arguments as `names` says. Throws OptionError naming
+// the file.
+struct SweepResumeNames {
+  std::string resume = "--resume";
+  std::string surfaces = "--surface";
+  std::string fractions = "--volume-fractions";
+  std::string continuation = "--continuation";
+  bool surfaces_given = false;
+  bool fractions_given = false;
+  bool continuation_given = false;
+};
+SweepJson resumed_sweep(
+    const std::filesystem::path& dir, const SweepParams& given, const SweepResumeNames& names,
+    const std::function<RunParams(const nlohmann::json&, const std::filesystem::path&)>&
+        run_params);
 
 // How a sweep member's folder starts when a sweep runs into it (decided by the group's rank 0,
 // then told to the others): run from scratch (an earlier run's outputs cleared), continue from

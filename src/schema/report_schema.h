@@ -110,13 +110,37 @@ struct FamiliesColumn {
 };
 const std::vector<FamiliesColumn>& families_table_columns();
 
+// ---- keys below report.json's top level, and sweep.json's -------------------------------
+
+// A key inside one of report.json's dictionaries, or of sweep.json, named by its path from the
+// top with dots ("crystallographic_cell.computed_cell.area"); "[]" stands for the items of a
+// list of dictionaries ("interfaces[].area"). A dictionary with the keys of another names it in
+// `like` ("properties.nodal" like "properties"), so that they are declared once.
+struct NestedKey {
+  std::string_view path = {};
+  std::string_view label = {};  // a page's or a chart's heading
+  std::string_view unit = {};   // as ReportKey::unit
+  std::string_view help = {};
+  bool timing = false;  // as ReportKey::timing
+  std::string_view like = {};
+};
+
+// The keys inside report.json's dictionaries that the pages and Python read
+// (crystallographic_cell, properties, checkpoint, bisection, interfaces): a dictionary with an
+// entry here is declared key by key (`cli.report_reference` fails on a key written but not
+// declared); one without (parameters, build, conventions, initial) is its top-level entry.
+const std::vector<NestedKey>& nested_report_key_table();
+// sweep.json's keys (driver/sweep_driver.cpp), its top level and its dictionaries alike.
+const std::vector<NestedKey>& sweep_json_key_table();
+
 // ---- the dump ----------------------------------------------------------------------------
 
 // All of the above as JSON text (`cmcsurf schema --json`; scripts and tests read it):
 // {"report_keys": [{key, label, unit, help, convention, format, page, error_key, timing,
 // summary, member_line, sweep_page: {header, format}}...], "history_columns": [{name, type,
 // format, unit, help, timing}...], "stages": [...], "sweep_leading_columns": [...],
-// "families_table": [{key, header, format}...]}.
+// "families_table": [{key, header, format}...], "nested_report_keys": [{path, label, unit,
+// help, timing, like}...], "sweep_json_keys": [the same]}.
 std::string report_schema_json();
 
 }  // namespace cmcsurf

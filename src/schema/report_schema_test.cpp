@@ -88,6 +88,72 @@ TEST(ReportSchema, DumpHoldsEveryTable) {
   EXPECT_EQ(j.at("sweep_leading_columns").size(), sweep_leading_columns().size());
   EXPECT_EQ(j.at("families_table")[0].at("header"), "alpha");
   EXPECT_EQ(j.at("stages"), nlohmann::json({"prerelax", "relax", "volume"}));
+  ASSERT_EQ(j.at("nested_report_keys").size(), nested_report_key_table().size());
+  EXPECT_EQ(j.at("nested_report_keys")[0].at("path"), "crystallographic_cell.space_group");
+  ASSERT_EQ(j.at("sweep_json_keys").size(), sweep_json_key_table().size());
+  EXPECT_EQ(j.at("sweep_json_keys")[0].at("path"), "members");
+}
+
+// The --properties stage's summary keys are generated entries: each quantity, its N/2 error
+// where the stage computes one, and the nodal twin's (pipeline/properties_stage.cpp).
+TEST(ReportSchema, PropertiesSummaryKeysAreDeclared) {
+  for (const char* key : {"properties_youngs_modulus", "properties_youngs_modulus_error",
+                          "properties_nodal_zener_ratio_error", "properties_specific_surface",
+                          "properties_nodal_wall_shear_stress", "properties_ramp"})
+    EXPECT_NO_THROW(report_key(key)) << key;
+  EXPECT_THROW(report_key("properties_specific_surface_error"), std::logic_error);
+  EXPECT_EQ(report_key("properties_nodal_permeability").unit, "cell size²");
+  EXPECT_EQ(report_key("properties_nodal_youngs_modulus_error").label, "nodal E / E_s error");
+}
+
+// The path of the dictionary (or list of dictionaries: "x[]") that holds `path`; "" at the top.
+std::string parent_of(std::string_view path) {
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string_view::npos) return "";
+  std::string parent(path.substr(0, dot));
+  if (parent.size() > 2 && parent.compare(parent.size() - 2, 2, "[]") == 0)
+    parent.resize(parent.size() - 2);
+  return parent;
+}
+
+// Each nested key sits in a declared dictionary (its parent an entry of the same table, or for
+// report.json a top-level key of report_key_table()), once, with a label and help, and `like`
+// names a declared dictionary; the tables list what the report's writers write (checked on real
+// reports by cli.report_reference).
+TEST(ReportSchema, NestedKeysSitInDeclaredDictionaries) {
+  for (const auto* table : {&nested_report_key_table(), &sweep_json_key_table()}) {
+    const bool report = table == &nested_report_key_table();
+    std::set<std::string> paths;
+    for (const NestedKey& k : *table) {
+      EXPECT_TRUE(paths.insert(std::string(k.path)).second) << k.path;
+      EXPECT_FALSE(k.label.empty()) << k.path;
+      EXPECT_FALSE(k.help.empty()) << k.path;
+    }
+    for (const NestedKey& k : *table) {
+      const std::string parent = parent_of(k.path);
+      if (parent.empty()) {
+        EXPECT_FALSE(report) << k.path << ": a top-level key belongs in report_key_table()";
+      } else if (report && parent.find('.') == std::string::npos) {
+        EXPECT_NO_THROW(report_key(parent)) << k.path;
+      } else {
+        EXPECT_TRUE(paths.count(parent)) << k.path << ": its dictionary is not declared";
+      }
+      if (k.like.empty()) continue;
+      if (report && k.like.find('.') == std::string_view::npos) {
+        EXPECT_NO_THROW(report_key(k.like)) << k.path;  // a top-level dictionary
+      } else {
+        EXPECT_TRUE(paths.count(std::string(k.like))) << k.path;
+      }
+    }
+  }
+  // What the pages and Python read.
+  for (const char* path : {"crystallographic_cell.computed_cell.area", "checkpoint.signal",
+                           "properties.youngs_modulus", "properties.nodal",
+                           "properties.solver.flow.preconditioner_shift"}) {
+    const auto& t = nested_report_key_table();
+    EXPECT_TRUE(std::any_of(t.begin(), t.end(), [&](const NestedKey& k) { return k.path == path; }))
+        << path;
+  }
 }
 
 }  // namespace

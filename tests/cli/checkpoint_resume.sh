@@ -66,11 +66,13 @@ for sig in TERM INT; do
   hint=$(sed -n 's/^resume with: //p' "$out.log")
   [ "$hint" = "$(realpath "$bin") run --resume $out" ] ||
     { echo "FAIL: resume hint '$hint'"; fail=1; }
-  python3 -c "
+  PYTHONPATH="$support" python3 -c "
 import json, sys; r = json.load(open('$out/report.json'))
 assert r['stop_reason'] == 'interrupted' and not r['converged'], r['stop_reason']
 assert r['checkpoint']['file'] == 'checkpoint.bin' and r['resume'].endswith('--resume $out')
 assert r['checkpoint']['stage'] == 'relax', r['checkpoint']
+from report_keys import undeclared_keys  # the interrupted report's keys are the schema's
+assert not undeclared_keys(r), undeclared_keys(r)
 " || fail=1
   [ -s "$out/checkpoint.bin" ] || { echo "FAIL: SIG$sig left no checkpoint"; fail=1; }
   if ls "$out" | grep -q tmp; then echo "FAIL: temporary left: $(ls "$out")"; fail=1; fi

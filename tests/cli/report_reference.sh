@@ -9,7 +9,8 @@
 # vectorise the solve's sums differently; counts, names and formatted text may not. A build
 # of another type (the sanitizers' -O1) may move a stop rule by a step on such round-off: there
 # only the names are compared (keys, headers, the pages' labels and keys, the tables' headings).
-# Every key of the report and column of sweep.csv must be declared in the schema.
+# Every key of the report and column of sweep.csv must be declared in the schema, and so must
+# the keys inside the report's dictionaries (with a --properties run's) and sweep.json's.
 set -u
 bin="$1"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -30,11 +31,17 @@ fail=0
 "$bin" sweep --surface P,G --volume-fractions 0.45,0.5 --grid 32 --epsilon 0.05 --max-steps 6 \
   --anderson-depth 0 --threads 1 --no-preview --no-plot --out sweep 2>sweep.err ||
   { echo "FAIL: the sweep"; cat sweep.err; exit 1; }
+# The properties dictionary's keys (a sheet with its nodal twins and the N/2 check: the most
+# keys; 0.9 s of CPU), for the schema's nested keys; compared with no reference.
+"$bin" run --surface G --volume-fraction 0.5 --grid 16 --epsilon 0.05 --max-steps 3 --threads 1 \
+  --properties-solid sheet --properties-porosity 0.5 --properties-nodal --properties-grid-check \
+  --no-preview --no-report --quiet --out properties 2>properties.err ||
+  { echo "FAIL: the --properties run"; cat properties.err; exit 1; }
 python3 "$here/../../scripts/sweep_table.py" --cmcsurf "$bin" sweep/sweep.csv >sweep_table.md ||
   fail=1
 PYTHONPATH="$support" python3 - "$here/report_reference" "$work" <<'PY' || fail=1
 import csv, io, json, re, sys
-from report_keys import SCHEMA, TIMING_KEYS, differing_keys
+from report_keys import SCHEMA, TIMING_KEYS, differing_keys, undeclared_keys
 
 ref, got = sys.argv[1], sys.argv[2]
 RTOL = 1e-6
@@ -61,6 +68,14 @@ check("report.json keys not in the schema", set(b) <= declared, sorted(set(b) - 
 columns = next(csv.reader(open(f"{got}/sweep/sweep.csv", newline="")))
 check("sweep.csv columns not in the schema", set(columns) <= declared,
       sorted(set(columns) - declared))
+
+# ... and every key inside their dictionaries, and sweep.json's (nested_report_keys,
+# sweep_json_keys).
+for name in ("run/report.json", "sweep/P_0.45/report.json", "properties/report.json"):
+    undeclared = undeclared_keys(json.load(open(f"{got}/{name}")))
+    check(f"{name} keys not in the schema", not undeclared, undeclared)
+undeclared = undeclared_keys(json.load(open(f"{got}/sweep/sweep.json")), "sweep_json")
+check("sweep.json keys not in the schema", not undeclared, undeclared)
 
 def csv_rows(path):
     return list(csv.reader(open(path, newline="")))

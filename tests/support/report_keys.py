@@ -6,6 +6,7 @@ as timings (schema/report_schema.cpp), read from `$CMCSURF_BIN schema --json`. T
 that compare a resumed or decomposed run with an uninterrupted one import them from here
 (PYTHONPATH=tests/support, CMCSURF_BIN=the cmcsurf under test); without CMCSURF_BIN, or when
 the command fails, importing this module fails: an empty set would compare nothing.
+undeclared_keys names the keys of a report.json or sweep.json that the schema lacks.
 """
 import json
 import math
@@ -52,3 +53,45 @@ def differing_keys(a, b, ignore=(), rtol=0.0):
     skip = TIMING_KEYS | set(ignore)
     return sorted(k for k in set(a) | set(b)
                   if k not in skip and not _same(a.get(k), b.get(k), rtol))
+
+
+def undeclared_keys(doc, kind="report"):
+    """The paths of the keys of `doc` that the schema does not declare, sorted: a run's
+    report.json (kind "report": its top level in report_keys, its dictionaries in
+    nested_report_keys) or sweep.json (kind "sweep_json": sweep_json_keys). A dictionary with no
+    declared keys of its own (report.json's parameters, build) is declared as a whole; "[]" is a
+    list's dictionaries; an entry's `like` lends it another dictionary's keys."""
+    table = SCHEMA["nested_report_keys" if kind == "report" else "sweep_json_keys"]
+    declared = {e["path"] for e in table}
+    if kind == "report":
+        declared |= {k["key"] for k in SCHEMA["report_keys"]}
+    like = {e["path"]: e["like"] for e in table if e["like"]}
+    found = []
+
+    def lookups(path):  # the path, then what it is like, and so on
+        while path:
+            yield path
+            path = like.get(path)
+
+    def walk(value, path, lookup):
+        if isinstance(value, list):
+            if any(d.startswith(lookup + "[].") for d in declared):
+                for item in value:
+                    walk(item, path + "[]", lookup + "[]")
+            return
+        if not isinstance(value, dict):
+            return
+        names = list(lookups(lookup)) if lookup else [""]
+        if lookup and not any(d.startswith(n + ".") for n in names for d in declared):
+            return  # declared as a whole
+        for key, item in value.items():
+            full = f"{path}.{key}" if path else key
+            match = next((f"{n}.{key}" if n else key for n in names
+                          if (f"{n}.{key}" if n else key) in declared), None)
+            if match is None:
+                found.append(full)
+            else:
+                walk(item, full, match)
+
+    walk(doc, "", "")
+    return sorted(found)
