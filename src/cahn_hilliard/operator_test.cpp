@@ -159,14 +159,16 @@ TEST(CahnHilliard, LexicographicSmootherMatchesReference) {
 // `sweeps` sweeps of the fused one-pass red-black smoother against the two-pass smoother
 // (smooth_color, the same point solve, with a halo exchange after each colour) bit for bit, and
 // against the reference colour passes (Cramer's rule written out) to round-off. Sizes: the
-// V-cycle's coarse levels (2, 4, 6, 8), slabs that split unevenly (34, 36 at 3 threads); ghost
-// widths 1 to 3; 1, 2 and 3 threads (the barrier-separated boundary planes are where a wrong
-// order would show). The fused sweep returns with valid ghosts: no exchange between calls.
+// V-cycle's coarse levels (2, 4, 6, 8, 16: one thread below kParallelMinN) and slabs that
+// split unevenly (34, 36) at 1, 2 and 3 threads (the barrier-separated planes around the slab
+// boundaries are where a wrong order would show); ghost widths 1 to 3. The fused sweep returns
+// with valid ghosts: no exchange between calls.
 TEST(CahnHilliard, RedBlackFusedSweepMatchesReference) {
   const int saved_threads = omp_get_max_threads();
   for (const int threads : {1, 2, 3}) {
     omp_set_num_threads(threads);
     for (const int n : {2, 4, 6, 8, 16, 34, 36}) {
+      if (threads > 1 && n < kParallelMinN) continue;  // serial there
       for (const int ghost : {1, 2, 3}) {
         for (const int sweeps : {1, 2, 3}) {
           if (ghost > n || (sweeps > 1 && n < 4 * sweeps)) continue;
