@@ -381,55 +381,70 @@ void wrap_planes_z(Field& f) {
 }  // namespace
 
 void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
-                            const ChParams& p) {
+                            const ChParams& p, int sweeps) {
   if (!phi.whole()) throw std::logic_error("smooth_red_black_fused on a block of a split grid");
   CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
-  CMCSURF_CHECK(phi.n() % 2 == 0 && nu.size() == phi.size() && src_phi.size() == phi.size() &&
-                src_nu.size() == phi.size());
   const int n = phi.n();
+  // Stage s relaxes colour s % 2 of sweep s / 2. Stage s of plane k reads stage s - 1 of planes
+  // k-1, k, k+1 and must run before stage s + 1 of them, so a wavefront that does stage s of
+  // plane k - s at step k keeps each cell's update order; a slab of 2 S planes per thread keeps
+  // the boundary work of neighbouring slabs apart.
+  const int stages = 2 * sweeps;
+  CMCSURF_CHECK(sweeps >= 1 && n % 2 == 0 && (sweeps == 1 || n >= 2 * stages));
+  CMCSURF_CHECK(nu.size() == phi.size() && src_phi.size() == phi.size() &&
+                src_nu.size() == phi.size());
   const PointSolve solve{1.0 / p.dt, double(n) * n, p.epsilon * p.epsilon};
-  auto relax_plane = [&](int k, int colour) {
+  const std::ptrdiff_t plane = phi.stride_z();
+  const int g = phi.ghost();
+  // Relaxes one stage of plane k (0 <= k < n) and refreshes its x/y ghosts while it is in cache.
+  auto relax_plane = [&](int k, int stage) {
+    const int colour = stage & 1;
     for (int j = 0; j < n; ++j)
       relax_row(phi, nu, src_phi, src_nu, solve, j, k, (j + k + colour) & 1, 2);
+    wrap_plane_xy(phi, k);
+    wrap_plane_xy(nu, k);
   };
-  // At least 4 planes per slab so that most planes are done in the lagged stream.
   const int threads =
-      n >= kParallelMinN ? std::max(1, std::min(omp_get_max_threads(), n / 4)) : 1;
+      n >= kParallelMinN ? std::max(1, std::min(omp_get_max_threads(), n / (2 * stages))) : 1;
 #pragma omp parallel num_threads(threads)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const int k0 = int(std::int64_t(n) * t / nt), k1 = int(std::int64_t(n) * (t + 1) / nt);
-    // Each plane's x/y ghosts are refreshed after each of its colours, while the plane is
-    // still in cache, so the sweep returns with valid ghosts without a halo pass of its own.
-    auto wrap_xy = [&](int k) {
-      wrap_plane_xy(phi, k);
-      wrap_plane_xy(nu, k);
-    };
-    for (int k = k0; k < k1; ++k) {
-      relax_plane(k, 0);  // colour 0 reads old colour 1 on planes k-1, k, k+1
-      wrap_xy(k);
-      if (k - 1 > k0) {
-        relax_plane(k - 1, 1);  // colour 0 of k-2, k-1, k is done
-        wrap_xy(k - 1);
+    // 1) Inside the slab: stage s on planes k0 + s .. k1 - 1 - s, whose inputs all lie in the
+    // slab (stage 0 reads the neighbours' planes and the z ghosts as they were on entry).
+    for (int step = k0; step < k1 + stages - 1; ++step)
+      for (int s = 0; s < stages; ++s) {
+        const int k = step - s;
+        if (k >= k0 + s && k <= k1 - 1 - s) relax_plane(k, s);
       }
-    }
-    // The slab's first and last planes need colour 0 of the neighbouring slabs (or of the
-    // periodic image).
 #pragma omp barrier
 #pragma omp single
     {
       wrap_planes_z(phi);
       wrap_planes_z(nu);
     }
-    relax_plane(k0, 1);
-    wrap_xy(k0);
-    if (k1 - 1 > k0) {
-      relax_plane(k1 - 1, 1);
-      wrap_xy(k1 - 1);
-    }
+    // 2) Each thread finishes the triangle around its slab's first plane b: stage s on planes
+    // b - s .. b + s - 1 (periodic), in the same wavefront order. Planes 0 and n - 1 refresh the
+    // ghost plane the other one reads after each stage.
+    const int b = k0;
+    for (int step = b; step <= b + 2 * stages - 3; ++step)
+      for (int s = 1; s < stages; ++s) {
+        const int v = step - s;
+        if (v < b - s || v > b + s - 1) continue;
+        const int k = (v + n) % n;
+        relax_plane(k, s);
+        if (k == 0) {
+          std::copy_n(&phi(-g, -g, 0), plane, &phi(-g, -g, n));
+          std::copy_n(&nu(-g, -g, 0), plane, &nu(-g, -g, n));
+        }
+        if (k == n - 1) {
+          std::copy_n(&phi(-g, -g, n - 1), plane, &phi(-g, -g, -1));
+          std::copy_n(&nu(-g, -g, n - 1), plane, &nu(-g, -g, -1));
+        }
+      }
 #pragma omp barrier
 #pragma omp single
-    {  // planes 0 and n - 1 changed after the first z wrap
+    {  // planes near 0 and n - 1 changed after the first z wrap
       wrap_planes_z(phi);
       wrap_planes_z(nu);
     }
@@ -513,8 +528,12 @@ void ChOperator::smooth(Fields& u, const Fields& rhs, int sweeps) const {
   for (int s = 0; s < sweeps; ++s) {
     if (!red_black) {
       smooth_lexicographic(u[0], u[1], rhs[0], rhs[1], p_);
-    } else if (u[0].whole()) {  // one block: one fused pass, periodic wrap per plane
-      smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_);
+    } else if (u[0].whole()) {  // one block: fused passes, periodic wrap per plane
+      // Two sweeps per pass where the grid has room for the wavefront: the fields stream from
+      // memory once for both.
+      const int blocked = sweeps - s >= 2 && u[0].n() >= 8 ? 2 : 1;
+      smooth_red_black_fused(u[0], u[1], rhs[0], rhs[1], p_, blocked);
+      s += blocked - 1;
     } else {  // blocks of other processes: exchange after each colour
       for (int colour = 0; colour < 2; ++colour) {
         smooth_color(u[0], u[1], rhs[0], rhs[1], p_, colour);

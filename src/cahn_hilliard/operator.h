@@ -100,15 +100,17 @@ void smooth_color(Field& phi, Field& nu, const Field& src_phi, const Field& src_
 void smooth_color_ref(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
                       const ChParams& p, int colour);
 
-// One whole red-black sweep (colour 0, then colour 1) in a single pass over memory: planes are
-// visited once, colour 1 of plane k-1 right after colour 0 of plane k, with the periodic x/y
-// ghosts of each plane refreshed in between and the z wrap at the end. Each thread takes a slab
-// of planes and finishes its two boundary planes after a barrier. The arithmetic is that of
-// smooth_color(0) then smooth_color(1) with a halo exchange between, so results are identical
-// for any thread count. Whole grids of even n only (throws std::logic_error on a block). Needs
-// valid ghosts on entry and leaves them valid (a periodic wrap after the sweep).
+// `sweeps` whole red-black sweeps (colour 0, then colour 1, each sweep) in a single pass over
+// memory, a wavefront in k: stage s (colour s % 2 of sweep s / 2) of plane k - s follows stage
+// s - 1 of plane k - s + 1, with the periodic x/y ghosts of each plane refreshed after each
+// stage and the z wrap at the end. Each thread takes a slab of at least 4 sweeps planes and
+// finishes the planes around its first one after a barrier. Every cell sees the neighbour
+// values it would see in smooth_color(0), smooth_color(1), ... with a halo exchange after each
+// colour, so the results have the same bits for any thread count. Whole grids of even n only
+// (throws std::logic_error on a block), n >= 4 sweeps when sweeps > 1. Needs valid ghosts on
+// entry and leaves them valid.
 void smooth_red_black_fused(Field& phi, Field& nu, const Field& src_phi, const Field& src_nu,
-                            const ChParams& p);
+                            const ChParams& p, int sweeps = 1);
 
 // One lexicographic Gauss-Seidel sweep exactly as printed in (A.3)-(A.4) (serial): the wrapped
 // neighbours of the first cells are read from the ghosts as they were on entry. Whole grids

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+#include <omp.h>
+
 #include <cmath>
+#include <string>
 
 #include "../../tests/test_fields.h"
 #include "cahn_hilliard/time_step.h"
@@ -152,26 +156,68 @@ TEST(CahnHilliard, LexicographicSmootherMatchesReference) {
   EXPECT_LE(max_abs_diff(nu1, nu2), 1e-13);
 }
 
-// The fused one-pass red-black sweep against two reference colour passes with a halo exchange
-// between them, on sizes whose slabs split unevenly (run at 1 and 2 threads by CTest), with
-// ghost widths 1 and 2. The fused sweep returns with valid ghosts: no exchange between sweeps.
+// `sweeps` sweeps of the fused one-pass red-black smoother against the two-pass smoother
+// (smooth_color, the same point solve, with a halo exchange after each colour) bit for bit, and
+// against the reference colour passes (Cramer's rule written out) to round-off. Sizes: the
+// V-cycle's coarse levels (2, 4, 6, 8, 16: one thread below kParallelMinN) and slabs that
+// split unevenly (34, 36) at 1, 2 and 3 threads (the barrier-separated planes around the slab
+// boundaries are where a wrong order would show); ghost widths 1 to 3. The fused sweep returns
+// with valid ghosts: no exchange between calls.
 TEST(CahnHilliard, RedBlackFusedSweepMatchesReference) {
-  for (const int n : {8, 34, 64}) {
-    for (const int ghost : {1, 2}) {
-      const ChParams p{0.01, 0.5 / n, SweepOrder::kRedBlack};
-      Field phi1 = random_field(n, ghost, 0, 1, 5), nu1 = random_field(n, ghost, -0.1, 0.1, 6);
-      Field s1 = random_field(n, 1, -10, 10, 7), s2 = random_field(n, 1, -1, 1, 8);
-      Field phi2 = phi1, nu2 = nu1;
-      for (int sweep = 0; sweep < 2; ++sweep) {
-        smooth_red_black_fused(phi1, nu1, s1, s2, p);
-        EXPECT_TRUE(halo_is_current(phi1) && halo_is_current(nu1)) << n << " ghost " << ghost;
-        for (int colour = 0; colour < 2; ++colour) {
-          smooth_color_ref(phi2, nu2, s1, s2, p, colour);
-          exchange_halos(phi2, nu2);
+  const int saved_threads = omp_get_max_threads();
+  for (const int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    for (const int n : {2, 4, 6, 8, 16, 34, 36}) {
+      if (threads > 1 && n < kParallelMinN) continue;  // serial there
+      for (const int ghost : {1, 2, 3}) {
+        for (const int sweeps : {1, 2, 3}) {
+          if (ghost > n || (sweeps > 1 && n < 4 * sweeps)) continue;
+          const ChParams p{0.01, 0.5 / n, SweepOrder::kRedBlack};
+          const Field phi0 = random_field(n, ghost, 0, 1, 5);
+          const Field nu0 = random_field(n, ghost, -0.1, 0.1, 6);
+          const Field s1 = random_field(n, 1, -10, 10, 7), s2 = random_field(n, 1, -1, 1, 8);
+          Field phi1 = phi0, nu1 = nu0, phi2 = phi0, nu2 = nu0, phi3 = phi0, nu3 = nu0;
+          const std::string what = fmt::format("n {} ghost {} sweeps {} threads {}", n, ghost,
+                                               sweeps, threads);
+          for (int call = 0; call < 2; ++call) {
+            smooth_red_black_fused(phi1, nu1, s1, s2, p, sweeps);
+            EXPECT_TRUE(halo_is_current(phi1) && halo_is_current(nu1)) << what;
+            for (int stage = 0; stage < 2 * sweeps; ++stage) {
+              smooth_color(phi2, nu2, s1, s2, p, stage % 2);
+              exchange_halos(phi2, nu2);
+              if (threads > 1) continue;  // the serial reference, once
+              smooth_color_ref(phi3, nu3, s1, s2, p, stage % 2);
+              exchange_halos(phi3, nu3);
+            }
+          }
+          EXPECT_GT(max_abs_diff(phi1, phi0), 0.01) << what;
+          EXPECT_EQ(max_abs_diff(phi1, phi2), 0.0) << what;
+          EXPECT_EQ(max_abs_diff(nu1, nu2), 0.0) << what;
+          if (threads > 1) continue;
+          EXPECT_LE(max_abs_diff(phi1, phi3), 1e-13) << what;
+          EXPECT_LE(max_abs_diff(nu1, nu3), 1e-13) << what;
         }
       }
-      EXPECT_LE(max_abs_diff(phi1, phi2), 1e-13) << n << " ghost " << ghost;
-      EXPECT_LE(max_abs_diff(nu1, nu2), 1e-13) << n << " ghost " << ghost;
+    }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
+// ChOperator::smooth pairs its sweeps into two-sweep passes where the grid allows: any count of
+// sweeps gives the bits of as many single sweeps, on the sizes a V-cycle's levels take.
+TEST(CahnHilliard, OperatorSmoothBlocksSweepsBitForBit) {
+  for (const int n : {2, 4, 8, 16, 32}) {
+    const ChOperator op({0.01, 0.5 / n, SweepOrder::kRedBlack});
+    const Fields rhs{random_field(n, 1, -10, 10, 44), random_field(n, 1, -1, 1, 45)};
+    for (const int sweeps : {1, 2, 3, 4, 5}) {
+      Fields u{random_field(n, 1, 0, 1, 46), random_field(n, 1, -0.1, 0.1, 47)};
+      Fields v = u;
+      op.smooth(u, rhs, sweeps);
+      for (int s = 0; s < sweeps; ++s)
+        smooth_red_black_fused(v[0], v[1], rhs[0], rhs[1], op.params(), 1);
+      EXPECT_EQ(max_abs_diff(u[0], v[0]), 0.0) << n << " sweeps " << sweeps;
+      EXPECT_EQ(max_abs_diff(u[1], v[1]), 0.0) << n << " sweeps " << sweeps;
+      EXPECT_TRUE(halo_is_current(u[0]) && halo_is_current(u[1])) << n;
     }
   }
 }
