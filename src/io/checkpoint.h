@@ -35,10 +35,14 @@ namespace cmcsurf {
 
 inline constexpr const char* kCheckpointFileName = "checkpoint.bin";
 // 2: build and outputs in the header; 3: volume_fraction per step; 4: euler_characteristic in
-// the measures.
-inline constexpr int kCheckpointFormat = 4;
-// Format 4's header with the fields in one piece file per process (the layout above).
-inline constexpr int kCheckpointPiecesFormat = 5;
+// the measures; 6: the Anderson mixer's history (header `anderson`, its arrays after the fields,
+// each listed with its bytes per value). Formats 4 and 5 are still read: a run continued from
+// one starts its mixing afresh (Checkpoint::anderson_carried).
+inline constexpr int kCheckpointFormat = 6;
+inline constexpr int kCheckpointFormatNoMixer = 4;
+// The same header with the fields in one piece file per process (the layout above).
+inline constexpr int kCheckpointPiecesFormat = 7;
+inline constexpr int kCheckpointPiecesFormatNoMixer = 5;
 
 // The folder of a checkpoint's pieces: DIR/checkpoint.parts for DIR/checkpoint.bin.
 std::filesystem::path checkpoint_piece_dir(const std::filesystem::path& path);
