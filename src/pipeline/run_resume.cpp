@@ -116,7 +116,8 @@ InterruptedRun write_interrupted_run(const fs::path& dir, const RunParams& param
                             {"step", c.step},
                             {"stage", run_stage_name(c.cursor.stage)},
                             {"grid", c.cursor.grid},
-                            {"signal", signal}};
+                            {"signal", signal},
+                            {"anderson_columns", c.anderson ? c.anderson->columns : 0}};
     report["checkpoints_written"] = sink.written();
     report["checkpoint_seconds"] = sink.seconds();
     report["resume"] = resume_command;
