@@ -339,7 +339,7 @@ void check_state(const CheckpointFile& f, int max_n) {
                      c.result.history.back().step, c.step));
 }
 
-// ---- format 5: the fields in one piece file per process ----------------------
+// ---- formats 5 and 7: the fields in one piece file per process -----------------
 
 constexpr std::array<char, 8> kPieceMagic = {'C', 'M', 'C', 'S', 'C', 'P', 'R', 'T'};
 constexpr std::size_t kPiecePreambleBytes = 8 + 4 + 8 + 4 + 3 * 4 + 3 * 4 + 4;
@@ -787,7 +787,7 @@ std::uint32_t write_field_rows(std::ostream& out, const std::vector<NamedField>&
   return crc;
 }
 
-// The container: preamble, header, the fields' interiors (none for format 5), trailer.
+// The container: preamble, header, the fields' interiors (none for format 7), trailer.
 void write_container(const std::filesystem::path& path, int format, const nlohmann::json& h,
                      const std::vector<NamedField>& fields, const Field& block) {
   const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);

@@ -314,7 +314,7 @@ TEST(Checkpoint, ReadsFromAFileAndNamesIt) {
   EXPECT_EQ(read_checkpoint(tmp / "c.bin").checkpoint.step, 11);
 }
 
-// Format 5 on one process (the whole grid as one piece; tests/mpi/pvti_test.cpp writes one per
+// Format 7 on one process (the whole grid as one piece; tests/mpi/pvti_test.cpp writes one per
 // process): the same bits back, a new id per checkpoint with the old pieces removed, and damaged,
 // stale, missing or misnamed pieces refused by name.
 TEST(Checkpoint, InPiecesKeepsEveryBitAndRefusesBadPieces) {

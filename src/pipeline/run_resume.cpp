@@ -83,7 +83,7 @@ void CheckpointSink::write(const Checkpoint& c) {
     // Fields every process holds whole (a grid the run does not split): rank 0 writes them.
     if (world_->rank() == 0) write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   } else {
-    // Whole grids: one file (format 4); blocks: every process writes its own piece (format 5,
+    // Whole grids: one file (format 6); blocks: every process writes its own piece (format 7,
     // collective), so that no process holds the whole grid (io/checkpoint.h).
     write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   }
