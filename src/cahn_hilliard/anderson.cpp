@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
+
+#include <fmt/format.h>
 
 namespace cmcsurf {
 
@@ -52,7 +55,88 @@ bool solve_normal_equations(std::vector<double> a, std::vector<double> b, int m,
 
 }  // namespace
 
-AndersonMixer::AndersonMixer(int depth) : depth_(std::clamp(depth, 1, kMaxDepth)) {
+std::vector<int> AndersonState::column_slots() const {
+  std::vector<int> slots;
+  for (int c = columns - 1; c >= 0; --c) slots.push_back((newest - c + depth) % depth);
+  return slots;
+}
+
+std::string AndersonState::count_problem() const {
+  if (depth < 1 || depth > kMaxDepth)
+    return fmt::format("depth {} outside [1, {}]", depth, kMaxDepth);
+  if (columns < 0 || columns > depth || (columns == 0) != (newest == -1) || newest < -1 ||
+      newest >= depth || (columns > 0 && !have_prev))
+    return fmt::format("{} column(s), newest in slot {}, {} previous step (depth {})", columns,
+                       newest, have_prev ? "a" : "no", depth);
+  if (gram.size() != std::size_t(depth) * depth || dg_mean.size() != std::size_t(depth))
+    return fmt::format("{} Gram entries and {} means; {} and {} expected", gram.size(),
+                       dg_mean.size(), depth * depth, depth);
+  for (const std::vector<double>* v : {&gram, &dg_mean})
+    for (const double x : *v)
+      if (!std::isfinite(x)) return "a non-finite Gram entry or mean";
+  if (!(std::isfinite(last_residual) && last_residual >= 0.0))
+    return fmt::format("last residual {}", last_residual);
+  return {};
+}
+
+std::string AndersonState::problem(std::size_t cells) const {
+  if (std::string p = count_problem(); !p.empty()) return p;
+  const std::size_t want = have_prev ? cells : 0;
+  if (prev_g.size() != want || prev_f.size() != want)
+    return fmt::format("the last step's G and F hold {} and {} cells; {} expected",
+                       prev_g.size(), prev_f.size(), want);
+  if (dg.size() != std::size_t(depth) || df.size() != std::size_t(depth))
+    return fmt::format("{} and {} ring slots; {} expected", dg.size(), df.size(), depth);
+  for (const int s : column_slots())
+    if (dg[s].size() != cells || df[s].size() != cells)
+      return fmt::format("column slot {} holds {} and {} cells; {} expected", s, dg[s].size(),
+                         df[s].size(), cells);
+  return {};
+}
+
+int AndersonMixer::effective_depth(int depth) { return std::clamp(depth, 1, kMaxDepth); }
+
+AndersonState AndersonMixer::take_state() {
+  AndersonState s;
+  s.depth = depth_;
+  s.columns = columns_;
+  s.newest = newest_;
+  s.have_prev = have_prev_;
+  if (have_prev_) {
+    std::swap(s.prev_g, prev_g_);
+    std::swap(s.prev_f, prev_f_);
+  }
+  std::swap(s.dg, dg_);
+  std::swap(s.df, df_);
+  s.gram = gram_;
+  s.dg_mean = dg_mean_;
+  s.last_residual = last_residual_;
+  return s;
+}
+
+void AndersonMixer::restore_state(AndersonState&& s) {
+  CMCSURF_CHECK(s.depth == depth_);
+  const std::size_t cells = s.prev_g.size();
+  CMCSURF_CHECK(s.problem(cells).empty());
+  columns_ = s.columns;
+  newest_ = s.newest;
+  have_prev_ = s.have_prev;
+  prev_g_ = std::move(s.prev_g);
+  prev_f_ = std::move(s.prev_f);
+  dg_ = std::move(s.dg);
+  df_ = std::move(s.df);
+  // A slot outside the columns is written before it is read; mix() expects every slot sized.
+  if (have_prev_)
+    for (int r = 0; r < depth_; ++r) {
+      if (dg_[r].size() != cells) dg_[r].assign(cells, 0.0f);
+      if (df_[r].size() != cells) df_[r].assign(cells, 0.0f);
+    }
+  gram_ = std::move(s.gram);
+  dg_mean_ = std::move(s.dg_mean);
+  last_residual_ = s.last_residual;
+}
+
+AndersonMixer::AndersonMixer(int depth) : depth_(effective_depth(depth)) {
   dg_.resize(depth_);
   df_.resize(depth_);
   gram_.assign(std::size_t(depth_) * depth_, 0.0);

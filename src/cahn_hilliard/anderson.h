@@ -15,15 +15,41 @@
 // it keeps the mass to round-off, not to the float rounding.
 #pragma once
 
+#include <cstddef>
+#include <string>
 #include <vector>
 
 #include "grid/field.h"
 
 namespace cmcsurf {
 
+// Everything a mixer carries from one mix to the next, so that a checkpoint taken between two
+// steps continues the mixing to the same bits. The per-cell arrays hold the interior cells of
+// the field's block, x fastest.
+struct AndersonState {
+  int depth = 0;
+  int columns = 0;   // valid history columns (<= depth)
+  int newest = -1;   // ring slot of the newest column (-1 without columns)
+  bool have_prev = false;
+  std::vector<double> prev_g, prev_f;      // G and F of the last step (empty without have_prev)
+  std::vector<std::vector<float>> dg, df;  // depth ring slots; only column_slots() are read
+  std::vector<double> gram;                // dF_i . dF_j, depth x depth (ring slots)
+  std::vector<double> dg_mean;             // mean of each stored dG's float rounding
+  double last_residual = 0.0;
+
+  // The ring slots of the valid columns, oldest first.
+  std::vector<int> column_slots() const;
+  // Why the counts and the small arrays do not describe a mixer's state (empty: they do) ...
+  std::string count_problem() const;
+  // ... nor the per-cell arrays one over a block of `cells` interior cells.
+  std::string problem(std::size_t cells) const;
+};
+
 class AndersonMixer {
  public:
   explicit AndersonMixer(int depth);
+  // The depth a mixer asked for `depth` columns uses.
+  static int effective_depth(int depth);
   int depth() const { return depth_; }
   // Forgets the history (dt changed, a relaxation starts, the last mixing did not pay).
   void reset();
@@ -33,6 +59,11 @@ class AndersonMixer {
   int mix(const Field& x, Field& g);
   // |F_k| of the last mix (root mean square over the cells).
   double last_residual() const { return last_residual_; }
+  // Moves the state out (no copy; the mixer is unusable until restore_state) ...
+  AndersonState take_state();
+  // ... and back, or from a checkpoint (ring slots it lacks are zero: never read). The state
+  // must be one of this depth whose problem() is empty.
+  void restore_state(AndersonState&& state);
 
  private:
   int depth_;
@@ -44,7 +75,6 @@ class AndersonMixer {
   std::vector<double> gram_;                     // dF_i . dF_j, depth x depth (ring indices)
   std::vector<double> dg_mean_;                  // mean of each stored dG's float rounding
   double last_residual_ = 0.0;
-  double prev_residual_ = 0.0;
 };
 
 // The same mixing with every vector in double and written with plain loops (the test twin).

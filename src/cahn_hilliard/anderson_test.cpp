@@ -126,5 +126,68 @@ TEST(Anderson, RestartsWhenTheResidualGrows) {
   EXPECT_EQ(mixer.mix(x, g), 1);  // it starts again from the jump
 }
 
+// The state a checkpoint carries: taken after the ring wrapped, with the slots outside the
+// columns dropped (a checkpoint keeps only the columns), restored into a new mixer, it mixes the
+// next steps to the same bits as the mixer it came from; a fresh mixer does not.
+TEST(Anderson, StateTakenAndRestoredMixesTheSameBits) {
+  const Field fixed = random_field(kN, 1, 0, 1, 10);
+  Field x = random_field(kN, 1, 0, 1, 11), g(kN, 1);
+  AndersonMixer mixer(3);
+  for (int step = 0; step < 6; ++step) {
+    apply_spread_map(fixed, x, g);
+    mixer.mix(x, g);
+    std::swap(x, g);
+  }
+  AndersonState state = mixer.take_state();
+  ASSERT_EQ(state.columns, 3);
+  ASSERT_TRUE(state.have_prev);
+  const std::size_t cells = x.interior_size();
+  EXPECT_EQ(state.problem(cells), "");
+  AndersonState copy = state;
+  mixer.restore_state(std::move(state));
+  for (int s = 0; s < copy.depth; ++s) {
+    copy.dg[std::size_t(s)].clear();
+    copy.df[std::size_t(s)].clear();
+  }
+  EXPECT_NE(copy.problem(cells), "");  // the columns' arrays are missing
+  const AndersonState full = mixer.take_state();
+  for (const int s : copy.column_slots()) {
+    copy.dg[std::size_t(s)] = full.dg[std::size_t(s)];
+    copy.df[std::size_t(s)] = full.df[std::size_t(s)];
+  }
+  mixer.restore_state(AndersonState(full));
+  EXPECT_EQ(copy.problem(cells), "");
+  AndersonMixer resumed(3), fresh(3);
+  resumed.restore_state(std::move(copy));
+  Field y = x, z = x, gy(kN, 1), gz(kN, 1);
+  int fresh_differs = 0;
+  for (int step = 0; step < 5; ++step) {
+    apply_spread_map(fixed, x, g);
+    apply_spread_map(fixed, y, gy);
+    apply_spread_map(fixed, z, gz);
+    const int a = mixer.mix(x, g);
+    EXPECT_EQ(resumed.mix(y, gy), a) << step;
+    fresh.mix(z, gz);
+    EXPECT_EQ(max_abs_diff(g, gy), 0.0) << step;
+    EXPECT_EQ(resumed.last_residual(), mixer.last_residual()) << step;
+    fresh_differs += max_abs_diff(g, gz) > 0.0;
+    std::swap(x, g);
+    std::swap(y, gy);
+    std::swap(z, gz);
+  }
+  EXPECT_GT(fresh_differs, 0);  // the history matters: without it the mixing differs
+
+  // Counts no mixer holds are named.
+  AndersonState bad = full;
+  bad.columns = 4;
+  EXPECT_NE(bad.count_problem().find("4 column(s)"), std::string::npos);
+  bad = full;
+  bad.gram[0] = std::nan("");
+  EXPECT_NE(bad.count_problem().find("non-finite"), std::string::npos);
+  bad = full;
+  bad.depth = 9;
+  EXPECT_NE(bad.count_problem().find("depth 9"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace cmcsurf

@@ -159,12 +159,32 @@ void result_from_json(const nlohmann::json& j, RunResult& r) {
     j["component_volume_targets"].get_to(r.component_volume_targets);
 }
 
+// An array a checkpoint holds over phi's block (interior cells, x fastest): a field, or one of
+// the Anderson mixer's per-cell arrays (its last G and F in float64, its differences in
+// float32, as the mixer keeps them).
 struct NamedField {
-  const char* name;
-  const Field* field;
+  std::string name;
+  const Field* field = nullptr;  // a field, or
+  const void* cells = nullptr;   // a mixer array over phi's block
+  int bytes = 8;                 // per value: 8 (float64) or 4 (float32)
 };
 
-// The fields a checkpoint holds, in file order: phi always, the stepper's when valid.
+// Calls add(name, array) for each of the mixer's per-cell arrays, in file order: the last
+// step's G and F, then each column's dG and dF, oldest first (named by their ring slot).
+template <class State, class Add>
+void each_mixer_array(State& m, Add&& add) {
+  if (m.have_prev) {
+    add(std::string("anderson_prev_g"), m.prev_g);
+    add(std::string("anderson_prev_f"), m.prev_f);
+  }
+  for (const int s : m.column_slots()) {
+    add(fmt::format("anderson_dg{}", s), m.dg[std::size_t(s)]);
+    add(fmt::format("anderson_df{}", s), m.df[std::size_t(s)]);
+  }
+}
+
+// The arrays a checkpoint holds, in file order: phi always, the stepper's fields when valid,
+// the mixer's arrays when it carries a mixer.
 std::vector<NamedField> fields_of(const Checkpoint& c) {
   std::vector<NamedField> f = {{"phi", &c.result.phi}};
   if (c.stepper.nu_valid) f.push_back({"nu", &c.stepper.nu});
@@ -172,7 +192,59 @@ std::vector<NamedField> fields_of(const Checkpoint& c) {
     f.push_back({"prev_phi", &c.stepper.prev_phi});
     f.push_back({"prev_nu", &c.stepper.prev_nu});
   }
+  if (c.anderson)
+    each_mixer_array(*c.anderson, [&](const std::string& name, const auto& v) {
+      f.push_back({name, nullptr, v.data(), int(sizeof v[0])});
+    });
   return f;
+}
+
+// The mixer's counts and small arrays in the header (its per-cell arrays are rows).
+nlohmann::json mixer_json(const std::optional<AndersonState>& m) {
+  if (!m) return nullptr;
+  return {{"depth", m->depth},       {"columns", m->columns}, {"newest", m->newest},
+          {"have_prev", m->have_prev}, {"gram", m->gram},     {"dg_mean", m->dg_mean},
+          {"last_residual", m->last_residual}};
+}
+
+std::optional<AndersonState> mixer_from_json(const nlohmann::json& j) {
+  if (j.is_null()) return std::nullopt;
+  AndersonState m;
+  j.at("depth").get_to(m.depth);
+  j.at("columns").get_to(m.columns);
+  j.at("newest").get_to(m.newest);
+  j.at("have_prev").get_to(m.have_prev);
+  j.at("gram").get_to(m.gram);
+  j.at("dg_mean").get_to(m.dg_mean);
+  j.at("last_residual").get_to(m.last_residual);
+  return m;
+}
+
+// Where an array read from a file goes: a field, or a mixer array sized to the block.
+struct ReadTarget {
+  std::string name;
+  int bytes = 8;
+  Field* field = nullptr;
+  void* cells = nullptr;
+};
+
+// The index of the first non-finite value of a row of `len` values of `bytes` each, or -1.
+int first_non_finite(const unsigned char* row, int len, int bytes) {
+  for (int i = 0; i < len; ++i) {
+    const unsigned char* at = row + std::size_t(i) * std::size_t(bytes);
+    bool finite;
+    if (bytes == 8) {
+      double v;
+      std::memcpy(&v, at, sizeof v);
+      finite = std::isfinite(v);
+    } else {
+      float v;
+      std::memcpy(&v, at, sizeof v);
+      finite = std::isfinite(v);
+    }
+    if (!finite) return i;
+  }
+  return -1;
 }
 
 template <class T>
@@ -267,7 +339,7 @@ void check_state(const CheckpointFile& f, int max_n) {
                      c.result.history.back().step, c.step));
 }
 
-// ---- format 5: the fields in one piece file per process ----------------------
+// ---- formats 5 and 7: the fields in one piece file per process -----------------
 
 constexpr std::array<char, 8> kPieceMagic = {'C', 'M', 'C', 'S', 'C', 'P', 'R', 'T'};
 constexpr std::size_t kPiecePreambleBytes = 8 + 4 + 8 + 4 + 3 * 4 + 3 * 4 + 4;
@@ -374,20 +446,38 @@ void check_tiling(const PieceList& list, int n, const Error& error) {
                             list.pieces.size(), n));
 }
 
-// Keeps the values of global row (j, k), cells x0 .. x0+len-1, that x's block holds.
-void keep_row(Field& x, const double* row, int x0, int j, int k, int len) {
-  const auto& o = x.offset();
+// Keeps the values of global row (j, k), cells x0 .. x0+len-1, that the block holds (the
+// block of the target's field, or of `block` for a mixer array).
+void keep_row(const ReadTarget& t, const Field& block, const unsigned char* row, int x0, int j,
+              int k, int len) {
+  const auto& o = block.offset();
   const int lj = j - o[1], lk = k - o[2];
-  if (lj < 0 || lj >= x.ny() || lk < 0 || lk >= x.nz()) return;
-  const int i0 = std::max(x0, o[0]), i1 = std::min(x0 + len, o[0] + x.nx());
+  if (lj < 0 || lj >= block.ny() || lk < 0 || lk >= block.nz()) return;
+  const int i0 = std::max(x0, o[0]), i1 = std::min(x0 + len, o[0] + block.nx());
   if (i1 <= i0) return;
-  std::memcpy(&x(i0 - o[0], lj, lk), row + (i0 - x0), sizeof(double) * std::size_t(i1 - i0));
+  const std::size_t b = std::size_t(t.bytes);
+  unsigned char* to =
+      t.field ? reinterpret_cast<unsigned char*>(&(*t.field)(i0 - o[0], lj, lk))
+              : static_cast<unsigned char*>(t.cells) +
+                    ((std::size_t(lk) * std::size_t(block.ny()) + std::size_t(lj)) *
+                         std::size_t(block.nx()) +
+                     std::size_t(i0 - o[0])) *
+                        b;
+  std::memcpy(to, row + std::size_t(i0 - x0) * b, b * std::size_t(i1 - i0));
 }
 
-// Reads piece p (file `path`) of the checkpoint `name` and keeps what the targets' block holds.
-void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uint64_t id, int n,
-                const std::vector<std::pair<const char*, Field*>>& expected,
-                const std::vector<Field*>& targets, const std::string& name) {
+// Bytes per cell of the arrays, all together.
+std::uint64_t bytes_per_cell(const std::vector<ReadTarget>& targets) {
+  std::uint64_t b = 0;
+  for (const ReadTarget& t : targets) b += std::uint64_t(t.bytes);
+  return b;
+}
+
+// Reads piece p (file `path`) of the checkpoint `name` (of format `format`) and keeps what the
+// block (phi's, the first target's) holds.
+void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uint32_t format_want,
+                std::uint64_t id, int n, const std::vector<ReadTarget>& targets,
+                const std::string& name) {
   auto error = [&](const std::string& what) {
     return CheckpointError(fmt::format("{}: piece '{}': {}", name, path.string(), what));
   };
@@ -399,7 +489,7 @@ void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uin
   }
   const std::uint64_t cells = std::uint64_t(p.size[0]) * p.size[1] * p.size[2];
   const std::uint64_t want =
-      kPiecePreambleBytes + cells * sizeof(double) * expected.size() + kTrailerBytes;
+      kPiecePreambleBytes + cells * bytes_per_cell(targets) + kTrailerBytes;
   if (in->size() != want)
     throw error(fmt::format("{} bytes, but the header describes {} (truncated or padded)",
                             in->size(), want));
@@ -424,30 +514,31 @@ void read_piece(const std::filesystem::path& path, const PieceEntry& p, std::uin
   take(size.data(), 12);
   take(&count, 4);
   if (magic != kPieceMagic) throw error("not a cmcsurf checkpoint piece (no CMCSCPRT signature)");
-  if (format != std::uint32_t(kCheckpointPiecesFormat) || piece_id != id)
+  if (format != format_want || piece_id != id)
     throw error(fmt::format("it belongs to another checkpoint (format {}, id {:016x}; the header "
                             "wants format {}, id {:016x})",
-                            format, piece_id, kCheckpointPiecesFormat, id));
-  if (piece_n != n || offset != p.offset || size != p.size || count != expected.size())
+                            format, piece_id, format_want, id));
+  if (piece_n != n || offset != p.offset || size != p.size || count != targets.size())
     throw error(fmt::format(
         "it holds {} field(s) on offset {} {} {}, size {} {} {} of a {}^3 grid; "
         "the header wants {} on offset {} {} {}, size {} {} {} of {}^3",
-        count, offset[0], offset[1], offset[2], size[0], size[1], size[2], piece_n, expected.size(),
+        count, offset[0], offset[1], offset[2], size[0], size[1], size[2], piece_n, targets.size(),
         p.offset[0], p.offset[1], p.offset[2], p.size[0], p.size[1], p.size[2], n));
-  std::vector<double> row(std::size_t(p.size[0]), 0.0);
-  for (std::size_t f = 0; f < expected.size(); ++f)
+  std::vector<unsigned char> row(std::size_t(p.size[0]) * sizeof(double));
+  for (const ReadTarget& t : targets) {
+    const std::size_t row_bytes = std::size_t(p.size[0]) * std::size_t(t.bytes);
     for (int k = 0; k < p.size[2]; ++k)
       for (int j = 0; j < p.size[1]; ++j) {
-        in->read(row.data(), row.size() * sizeof(double));
-        crc = crc32_of(crc, row.data(), row.size() * sizeof(double));
-        for (int i = 0; i < p.size[0]; ++i)
-          if (!std::isfinite(row[std::size_t(i)]))
-            throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
-                                    expected[f].first, p.offset[0] + i, p.offset[1] + j,
-                                    p.offset[2] + k));
-        keep_row(*targets[f], row.data(), p.offset[0], p.offset[1] + j, p.offset[2] + k,
-                 p.size[0]);
+        in->read(row.data(), row_bytes);
+        crc = crc32_of(crc, row.data(), row_bytes);
+        const int i = first_non_finite(row.data(), p.size[0], t.bytes);
+        if (i >= 0)
+          throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
+                                  t.name, p.offset[0] + i, p.offset[1] + j, p.offset[2] + k));
+        keep_row(t, *targets[0].field, row.data(), p.offset[0], p.offset[1] + j,
+                 p.offset[2] + k, p.size[0]);
       }
+  }
   const auto piece_crc = get<std::uint32_t>(*in);
   std::array<char, 8> end{};
   in->read(end.data(), end.size());
@@ -472,13 +563,17 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
   in.read(magic.data(), magic.size());
   if (magic != kMagic) throw error("not a cmcsurf checkpoint (no CMCSCKPT signature)");
   const auto format = get<std::uint32_t>(in);
-  if (format != std::uint32_t(kCheckpointFormat) &&
-      format != std::uint32_t(kCheckpointPiecesFormat))
-    throw error(fmt::format("checkpoint format {}; this cmcsurf reads formats {} and {}", format,
-                            kCheckpointFormat, kCheckpointPiecesFormat));
-  const bool pieces = format == std::uint32_t(kCheckpointPiecesFormat);
+  if (format < std::uint32_t(kCheckpointFormatNoMixer) ||
+      format > std::uint32_t(kCheckpointPiecesFormat))
+    throw error(fmt::format("checkpoint format {}; this cmcsurf reads formats {} to {}", format,
+                            kCheckpointFormatNoMixer, kCheckpointPiecesFormat));
+  const bool pieces = format == std::uint32_t(kCheckpointPiecesFormat) ||
+                      format == std::uint32_t(kCheckpointPiecesFormatNoMixer);
+  const bool mixer = format >= std::uint32_t(kCheckpointFormat);
   if (pieces && !file)
-    throw error("a checkpoint in pieces (format 5) is read from its folder, not from memory");
+    throw error(fmt::format("a checkpoint in pieces (format {}) is read from its folder, not "
+                            "from memory",
+                            format));
   const auto header_crc = get<std::uint32_t>(in);
   const auto header_bytes = get<std::uint64_t>(in);
   if (header_bytes == 0) throw error("empty header");
@@ -491,7 +586,12 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     throw error("the header's checksum does not match (the file is corrupted)");
 
   CheckpointFile f;
-  std::vector<std::pair<std::string, long long>> fields;
+  struct ListedField {
+    std::string name;
+    long long n = 0;
+    int bytes = 8;
+  };
+  std::vector<ListedField> fields;
   PieceList piece_list;
   try {
     const nlohmann::json h = nlohmann::json::from_cbor(header);
@@ -511,8 +611,12 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     st.at("history_valid").get_to(c.stepper.history_valid);
     st.at("prev_dt").get_to(c.stepper.prev_dt);
     result_from_json(h.at("result"), c.result);
+    // Formats 6 and 7 carry the mixer (null: none) and each array's bytes per value.
+    c.anderson_carried = mixer;
+    if (mixer) c.anderson = mixer_from_json(h.at("anderson"));
     for (const nlohmann::json& fj : h.at("fields"))
-      fields.emplace_back(fj.at("name").get<std::string>(), fj.at("n").get<long long>());
+      fields.push_back({fj.at("name").get<std::string>(), fj.at("n").get<long long>(),
+                        mixer ? fj.at("bytes").get<int>() : 8});
     if (pieces) piece_list = read_piece_list(h.at("pieces"));
   } catch (const std::exception& e) {  // nlohmann's parse, type and key errors
     throw error(fmt::format("the header is not a valid checkpoint header: {}", e.what()));
@@ -533,24 +637,40 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     throw error(fmt::format("the header is not a valid checkpoint header: {}", e.what()));
   }
 
-  // The fields the header names must be the ones its stepper flags imply, all on the
+  // The fields the header names must be the ones its stepper flags and mixer imply, all on the
   // cursor's grid, and fill the rest of the file exactly: checked before allocating.
   Checkpoint& c = f.checkpoint;
   const int n = c.cursor.grid;
-  std::vector<std::pair<const char*, Field*>> expected = {{"phi", &c.result.phi}};
-  if (c.stepper.nu_valid) expected.push_back({"nu", &c.stepper.nu});
-  if (c.stepper.history_valid) {
-    expected.push_back({"prev_phi", &c.stepper.prev_phi});
-    expected.push_back({"prev_nu", &c.stepper.prev_nu});
+  if (c.anderson) {
+    AndersonState& m = *c.anderson;
+    const std::string problem = m.count_problem();
+    if (!problem.empty())
+      throw error(fmt::format("the header's Anderson mixer is not one a run holds: {}", problem));
+    m.dg.resize(std::size_t(m.depth));
+    m.df.resize(std::size_t(m.depth));
   }
+  std::vector<ReadTarget> expected = {{"phi", 8, &c.result.phi}};
+  if (c.stepper.nu_valid) expected.push_back({"nu", 8, &c.stepper.nu});
+  if (c.stepper.history_valid) {
+    expected.push_back({"prev_phi", 8, &c.stepper.prev_phi});
+    expected.push_back({"prev_nu", 8, &c.stepper.prev_nu});
+  }
+  const std::size_t first_mixer_array = expected.size();
+  if (c.anderson)
+    each_mixer_array(*c.anderson, [&](const std::string& array, auto& v) {
+      expected.push_back({array, int(sizeof v[0]), nullptr, nullptr});
+    });
   if (fields.size() != expected.size())
     throw error(fmt::format("{} fields listed, {} expected", fields.size(), expected.size()));
   for (std::size_t i = 0; i < fields.size(); ++i)
-    if (fields[i].first != expected[i].first || fields[i].second != n)
-      throw error(fmt::format("field {} is '{}' on {}^3; expected '{}' on {}^3", i,
-                              fields[i].first, fields[i].second, expected[i].first, n));
+    if (fields[i].name != expected[i].name || fields[i].n != n ||
+        fields[i].bytes != expected[i].bytes)
+      throw error(fmt::format("field {} is '{}' on {}^3 with {} bytes a value; expected '{}' on "
+                              "{}^3 with {}",
+                              i, fields[i].name, fields[i].n, fields[i].bytes, expected[i].name,
+                              n, expected[i].bytes));
   const std::uint64_t cells = std::uint64_t(n) * n * n;
-  const std::uint64_t data_bytes = pieces ? 0 : cells * sizeof(double) * fields.size();
+  const std::uint64_t data_bytes = pieces ? 0 : cells * bytes_per_cell(expected);
   const std::uint64_t want = kPreambleBytes + header_bytes + data_bytes + kTrailerBytes;
   if (size != want)
     throw error(fmt::format("{} bytes, but its header describes {} (truncated or padded)", size,
@@ -561,28 +681,34 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
   const std::shared_ptr<const Decomposition>& d = options.decomposition;
   const bool split = d && d->distributed();
   if (split && !d->splits(n)) return f;
-  for (auto& [field_name, field] : expected) {
-    const int ghost = field_name == std::string("phi") ? 2 : 1;
-    *field = split ? Field(n, ghost, d) : Field(n, ghost);
-  }
-  std::vector<Field*> targets;
-  for (auto& e : expected) targets.push_back(e.second);
-  std::vector<double> row;
+  for (ReadTarget& t : expected)
+    if (t.field) {
+      const int ghost = t.name == "phi" ? 2 : 1;
+      *t.field = split ? Field(n, ghost, d) : Field(n, ghost);
+    }
+  const Field& block = c.result.phi;
+  if (c.anderson)  // the mixer's arrays over phi's block, in the order of `expected`
+    each_mixer_array(*c.anderson,
+                     [&, q = first_mixer_array](const std::string&, auto& v) mutable {
+                       v.assign(block.interior_size(), 0);
+                       expected[q++].cells = v.data();
+                     });
+  const std::vector<ReadTarget>& targets = expected;
   if (!pieces) {
     // Every row is read (the checksum covers them all); those of the block are kept.
     std::uint32_t crc = 0;
-    row.assign(std::size_t(n), 0.0);
-    for (std::size_t q = 0; q < expected.size(); ++q) {
-      Field& x = *targets[q];
+    std::vector<unsigned char> row(std::size_t(n) * sizeof(double));
+    for (const ReadTarget& t : targets) {
+      const std::size_t row_bytes = std::size_t(n) * std::size_t(t.bytes);
       for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j) {
-          in.read(row.data(), row.size() * sizeof(double));
-          crc = crc32_of(crc, row.data(), row.size() * sizeof(double));
-          for (int i = 0; i < n; ++i)
-            if (!std::isfinite(row[std::size_t(i)]))
-              throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
-                                      expected[q].first, i, j, k));
-          keep_row(x, row.data(), 0, j, k, n);
+          in.read(row.data(), row_bytes);
+          crc = crc32_of(crc, row.data(), row_bytes);
+          const int i = first_non_finite(row.data(), n, t.bytes);
+          if (i >= 0)
+            throw error(fmt::format("field '{}' holds a non-finite value at cell ({}, {}, {})",
+                                    t.name, i, j, k));
+          keep_row(t, block, row.data(), 0, j, k, n);
         }
     }
     const auto data_crc = get<std::uint32_t>(in);
@@ -597,7 +723,6 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
     in.read(end.data(), end.size());
     if (data_crc != 0 || end != kEndMagic)
       throw error("the fields' checksum does not match (the file is corrupted)");
-    const Field& block = *targets[0];
     const std::filesystem::path dir = checkpoint_piece_dir(*file);
     for (std::size_t q = 0; q < piece_list.pieces.size(); ++q) {
       const PieceEntry& p = piece_list.pieces[q];
@@ -606,11 +731,12 @@ CheckpointFile parse(Source& in, const CheckpointReadOptions& options, const std
         overlaps = overlaps && p.offset[a] < block.offset()[a] + block.size()[a] &&
                    block.offset()[a] < p.offset[a] + p.size[a];
       if (overlaps)
-        read_piece(dir / p.file, p, piece_list.id, n, expected, targets, name);
+        read_piece(dir / p.file, p, format, piece_list.id, n, targets, name);
     }
   }
   if (!split)
-    for (Field* field : targets) field->exchange_halo();
+    for (const ReadTarget& t : targets)
+      if (t.field) t.field->exchange_halo();
   return f;
 }
 
@@ -634,32 +760,36 @@ nlohmann::json header_json(const nlohmann::json& params, const Checkpoint& c,
                   {"history_valid", c.stepper.history_valid},
                   {"prev_dt", c.stepper.prev_dt}};
   h["result"] = result_json(c.result);
+  h["anderson"] = mixer_json(c.anderson);
   nlohmann::json list = nlohmann::json::array();
-  for (const NamedField& f : fields) list.push_back({{"name", f.name}, {"n", f.field->n()}});
+  for (const NamedField& f : fields)
+    list.push_back({{"name", f.name}, {"n", c.result.phi.n()}, {"bytes", f.bytes}});
   h["fields"] = list;
   return h;
 }
 
-// The fields' interior rows, x fastest, then y, z, field by field; returns crc continued over
-// the bytes written.
+// The arrays' interior rows over the block, x fastest, then y, z, array by array; returns crc
+// continued over the bytes written.
 std::uint32_t write_field_rows(std::ostream& out, const std::vector<NamedField>& fields,
-                               std::uint32_t crc) {
+                               const Field& block, std::uint32_t crc) {
+  const int nx = block.nx(), ny = block.ny(), nz = block.nz();
   for (const NamedField& f : fields) {
-    const Field& x = *f.field;
-    const std::streamsize row = std::streamsize(x.nx() * sizeof(double));
-    for (int k = 0; k < x.nz(); ++k)
-      for (int j = 0; j < x.ny(); ++j) {
-        const double* p = &x(0, j, k);
-        crc = crc32_of(crc, p, std::size_t(row));
-        out.write(reinterpret_cast<const char*>(p), row);
+    const std::size_t row = std::size_t(nx) * std::size_t(f.bytes);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
+        const void* p = f.field ? static_cast<const void*>(&(*f.field)(0, j, k))
+                                : static_cast<const unsigned char*>(f.cells) +
+                                      (std::size_t(k) * std::size_t(ny) + std::size_t(j)) * row;
+        crc = crc32_of(crc, p, row);
+        out.write(static_cast<const char*>(p), std::streamsize(row));
       }
   }
   return crc;
 }
 
-// The container: preamble, header, the fields' interiors (none for format 5), trailer.
+// The container: preamble, header, the fields' interiors (none for format 7), trailer.
 void write_container(const std::filesystem::path& path, int format, const nlohmann::json& h,
-                     const std::vector<NamedField>& fields) {
+                     const std::vector<NamedField>& fields, const Field& block) {
   const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);
   AtomicWriter w(path);
   std::ostream& out = w.stream();
@@ -668,7 +798,7 @@ void write_container(const std::filesystem::path& path, int format, const nlohma
   put(out, crc32_of(0, header.data(), header.size()));
   put(out, std::uint64_t(header.size()));
   out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
-  const std::uint32_t crc = write_field_rows(out, fields, 0);
+  const std::uint32_t crc = write_field_rows(out, fields, block, 0);
   put(out, crc);
   out.write(kEndMagic.data(), kEndMagic.size());
   w.commit();
@@ -697,7 +827,8 @@ std::uint32_t write_piece(const std::filesystem::path& path, std::uint64_t id,
   AtomicWriter w(path);
   std::ostream& out = w.stream();
   out.write(reinterpret_cast<const char*>(pre.data()), std::streamsize(pre.size()));
-  const std::uint32_t crc = write_field_rows(out, fields, crc32_of(0, pre.data(), pre.size()));
+  const std::uint32_t crc =
+      write_field_rows(out, fields, first, crc32_of(0, pre.data(), pre.size()));
   put(out, crc);
   out.write(kEndMagic.data(), kEndMagic.size());
   w.commit();
@@ -752,7 +883,7 @@ void write_pieces(const std::filesystem::path& path, const nlohmann::json& param
       }
       nlohmann::json h = header_json(params, c, outputs, fields);
       h["pieces"] = piece_list_json(list);
-      write_container(path, kCheckpointPiecesFormat, h, {});
+      write_container(path, kCheckpointPiecesFormat, h, {}, c.result.phi);
     });
   try {
     agree_or_throw(d, error);
@@ -796,11 +927,14 @@ void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& p
   const std::vector<NamedField> fields = fields_of(c);
   const Field& phi = c.result.phi;
   for (const NamedField& f : fields)
-    if (f.field->n() != c.cursor.grid || f.field->offset() != phi.offset() ||
-        f.field->size() != phi.size())
+    if (f.field && (f.field->n() != c.cursor.grid || f.field->offset() != phi.offset() ||
+                    f.field->size() != phi.size()))
       throw std::logic_error(fmt::format("write_checkpoint: field {} is not on phi's block of "
                                          "the {}^3 grid",
                                          f.name, c.cursor.grid));
+  if (c.anderson && !c.anderson->problem(phi.interior_size()).empty())
+    throw std::logic_error("write_checkpoint: the Anderson mixer's state is not over phi's "
+                           "block: " + c.anderson->problem(phi.interior_size()));
   const Decomposition* d = phi.decomposition();
   if ((d && d->distributed()) || in_pieces) {
     write_pieces(path, params, c, outputs, fields);
@@ -808,7 +942,7 @@ void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& p
   }
   if (!phi.whole())
     throw std::logic_error("write_checkpoint: phi is a block without its decomposition");
-  write_container(path, kCheckpointFormat, header_json(params, c, outputs, fields), fields);
+  write_container(path, kCheckpointFormat, header_json(params, c, outputs, fields), fields, phi);
 }
 
 CheckpointFile read_checkpoint(const std::filesystem::path& path,

@@ -2,18 +2,20 @@
 // that `run --resume DIR` continues it to the same bits (docs/reliability.md).
 //
 // Container (little-endian; docs/reliability.md has the table):
-//   "CMCSCKPT"  u32 format (4 or 5)  u32 CRC-32 of the header  u64 header bytes
-//   header: CBOR of {version, build, params, outputs, cursor, state, stepper, result,
-//                    fields: [{name, n}], format 5 also pieces: {id, list}}
-//   format 4 (whole grids): each field in the header's order: n^3 float64, x fastest
-//   format 5 (blocks of a decomposed run): no field bytes here
+//   "CMCSCKPT"  u32 format (6 or 7; 4 or 5 read)  u32 CRC-32 of the header  u64 header bytes
+//   header: CBOR of {version, build, params, outputs, cursor, state, stepper, result, anderson,
+//                    fields: [{name, n, bytes}], format 7 also pieces: {id, list}}
+//   format 6 (whole grids): each array in the header's order: n^3 values (float64, or float32
+//     for the mixer's differences), x fastest
+//   format 7 (blocks of a decomposed run): no field bytes here
 //   u32 CRC-32 of the field bytes  "CKPTDONE"
-// CBOR keeps every double exactly, NaN included (an error estimate not computed).
+// CBOR keeps every double exactly, NaN included (an error estimate not computed). Formats 4
+// and 5 are 6 and 7 without `anderson` and `bytes` (every array float64, no mixer's).
 //
-// Format 5 keeps no whole grid anywhere: process R writes its blocks into
+// Format 7 keeps no whole grid anywhere: process R writes its blocks into
 // checkpoint.parts/<id>-rRRRRR.bin, where <id> is 16 hex digits drawn anew for each checkpoint:
-//   "CMCSCPRT"  u32 format (5)  u64 id  i32 n  i32 offset[3]  i32 size[3]  u32 field count
-//   each field in the header's order: size[0] size[1] size[2] float64, x fastest
+//   "CMCSCPRT"  u32 format (7)  u64 id  i32 n  i32 offset[3]  i32 size[3]  u32 field count
+//   each array in the header's order: size[0] size[1] size[2] values, x fastest
 //   u32 CRC-32 of every byte before it  "CKPTDONE"
 // and the header's pieces.list gives, in rank order, each piece's file, offset, size and
 // CRC-32 (the pieces form a Cartesian grid of boxes that tile the n^3 grid).
@@ -35,10 +37,14 @@ namespace cmcsurf {
 
 inline constexpr const char* kCheckpointFileName = "checkpoint.bin";
 // 2: build and outputs in the header; 3: volume_fraction per step; 4: euler_characteristic in
-// the measures.
-inline constexpr int kCheckpointFormat = 4;
-// Format 4's header with the fields in one piece file per process (the layout above).
-inline constexpr int kCheckpointPiecesFormat = 5;
+// the measures; 6: the Anderson mixer's history (header `anderson`, its arrays after the fields,
+// each listed with its bytes per value). Formats 4 and 5 are still read: a run continued from
+// one starts its mixing afresh (Checkpoint::anderson_carried).
+inline constexpr int kCheckpointFormat = 6;
+inline constexpr int kCheckpointFormatNoMixer = 4;
+// The same header with the fields in one piece file per process (the layout above).
+inline constexpr int kCheckpointPiecesFormat = 7;
+inline constexpr int kCheckpointPiecesFormatNoMixer = 5;
 
 // The folder of a checkpoint's pieces: DIR/checkpoint.parts for DIR/checkpoint.bin.
 std::filesystem::path checkpoint_piece_dir(const std::filesystem::path& path);
@@ -63,8 +69,8 @@ struct CheckpointFile {
 };
 
 // Writes atomically (temporary name, then rename); `outputs` (an object) is kept for the
-// resumed run. Whole-grid fields give format 4 (one file), unless in_pieces. Blocks of a
-// decomposed grid give format 5, collectively: every process of the decomposition calls it
+// resumed run. Whole-grid fields give format 6 (one file), unless in_pieces. Blocks of a
+// decomposed grid give format 7, collectively: every process of the decomposition calls it
 // with its blocks (rank 0's header is written; every process's c.result but phi is the same),
 // writes its piece, and, once every piece is in place, rank 0 renames the new checkpoint.bin
 // into place and then removes the pieces of the one it replaced. Until that rename the earlier
@@ -82,7 +88,7 @@ struct CheckpointReadOptions {
   std::string require_version = CMCSURF_VERSION;
   std::string require_build = build_identity();
   // Null or one process: whole fields. Otherwise this process's blocks of the cursor's grid:
-  // only the parts of the file (format 4) or the pieces (format 5) that hold them are kept,
+  // only the parts of the file (format 6) or the pieces (format 7) that hold them are kept,
   // every byte read is checked as for whole fields, and the ghosts are not written (not
   // collective: agree on errors, then exchange the halos). If the decomposition does not split
   // that grid the fields are left empty and unread (resume_problem says why).
@@ -90,7 +96,7 @@ struct CheckpointReadOptions {
 };
 
 // Reads and checks everything (sizes against the file's before allocating, both checksums,
-// finite fields, the parameters' ranges, a cursor on one of the run's grids; format 5: the
+// finite fields, the parameters' ranges, a cursor on one of the run's grids; format 7: the
 // pieces' list and tiling, and each piece read: its size, id, box, CRC-32 against its own and
 // the header's). Throws CheckpointError. Whether a given run can continue it: resume_problem
 // (pipeline/cmc.h).

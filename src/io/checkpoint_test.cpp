@@ -82,6 +82,138 @@ TEST(Checkpoint, RoundTripKeepsEveryBit) {
     for_each_cell(*x, [&](int i, int j, int k) { ASSERT_EQ((*x)(i, j, k), (*y)(i, j, k)); });
 }
 
+// A mixer's state as a run holds it: depth 3, two columns in ring slots 2 and 0 (the ring
+// wrapped), slot 1 stale; values whose decimal forms are not exact.
+AndersonState sample_mixer(std::size_t cells) {
+  AndersonState m;
+  m.depth = 3;
+  m.columns = 2;
+  m.newest = 0;
+  m.have_prev = true;
+  m.prev_g.resize(cells);
+  m.prev_f.resize(cells);
+  m.dg.assign(3, std::vector<float>(cells));
+  m.df = m.dg;
+  for (std::size_t i = 0; i < cells; ++i) {
+    m.prev_g[i] = 1.0 / (3.0 + double(i));
+    m.prev_f[i] = -std::sqrt(double(i)) * 1e-7;
+    for (int s = 0; s < 3; ++s) {
+      m.dg[std::size_t(s)][i] = float(std::sin(double(i + 7 * s)) * 1e-5);
+      m.df[std::size_t(s)][i] = float(std::cos(double(i * 3 + s)) * 1e-6);
+    }
+  }
+  for (int r = 0; r < 9; ++r) m.gram.push_back(0.1 * r + 1.0 / 3.0);
+  m.dg_mean = {1e-17 / 3.0, -2.0 / 7.0 * 1e-18, 0.0};
+  m.last_residual = std::sqrt(2.0) * 1e-4;
+  return m;
+}
+
+void expect_same_mixer(const AndersonState& a, const AndersonState& b) {
+  EXPECT_EQ(b.depth, a.depth);
+  EXPECT_EQ(b.columns, a.columns);
+  EXPECT_EQ(b.newest, a.newest);
+  EXPECT_EQ(b.have_prev, a.have_prev);
+  EXPECT_EQ(b.gram, a.gram);  // every double exactly (CBOR keeps them)
+  EXPECT_EQ(b.dg_mean, a.dg_mean);
+  EXPECT_EQ(b.last_residual, a.last_residual);
+  EXPECT_EQ(b.prev_g, a.prev_g);
+  EXPECT_EQ(b.prev_f, a.prev_f);
+  for (const int s : a.column_slots()) {
+    EXPECT_EQ(b.dg[std::size_t(s)], a.dg[std::size_t(s)]) << "slot " << s;
+    EXPECT_EQ(b.df[std::size_t(s)], a.df[std::size_t(s)]) << "slot " << s;
+  }
+  EXPECT_TRUE(b.dg[1].empty() && b.df[1].empty()) << "the stale slot travelled";
+}
+
+// The mixer's state through the file, whole and in pieces: every value's bits back, 16 + 8
+// bytes per cell per column; a damaged mixer section is refused by name; a file of format 4
+// (no mixer) still reads, marked so.
+TEST(Checkpoint, CarriesTheAndersonMixer) {
+  const Sample& s = sample();
+  TempDir tmp("cmcsurf-ckpt");
+  Checkpoint c = s.checkpoint;
+  c.anderson = sample_mixer(c.result.phi.interior_size());
+  const nlohmann::json params = params_json(s.params);
+  write_checkpoint(tmp / "m.bin", params, c);
+  const CheckpointFile f = read_checkpoint(tmp / "m.bin");
+  ASSERT_TRUE(f.checkpoint.anderson);
+  EXPECT_TRUE(f.checkpoint.anderson_carried);
+  expect_same_mixer(*c.anderson, *f.checkpoint.anderson);
+  std::ifstream in(tmp / "m.bin", std::ios::binary);
+  const std::vector<unsigned char> good(std::istreambuf_iterator<char>(in), {});
+  std::uint64_t length = 0;  // of the header
+  std::memcpy(&length, good.data() + 16, 8);
+  // After the header: the four fields (8 bytes a cell each), the mixer's last G and F (16) and
+  // its two columns' dG and dF (8 each), then the trailer.
+  EXPECT_EQ(good.size() - 24 - length - 12, std::uint64_t(16 * 16 * 16) * (4 * 8 + 16 + 8 * 2));
+  write_checkpoint(tmp / "checkpoint.bin", params, c, nlohmann::json::object(), true);
+  const CheckpointFile p = read_checkpoint(tmp / "checkpoint.bin");
+  ASSERT_TRUE(p.checkpoint.anderson);
+  expect_same_mixer(*c.anderson, *p.checkpoint.anderson);
+
+  auto error_with = [&](const std::function<void(Checkpoint&)>& edit) {
+    Checkpoint e = c;
+    edit(e);
+    write_checkpoint(tmp / "h.bin", params, e);
+    try {
+      read_checkpoint(tmp / "h.bin");
+    } catch (const CheckpointError& x) {
+      return std::string(x.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_with([](Checkpoint&) {}), "");
+  const std::string nan = error_with([](Checkpoint& e) { e.anderson->dg[2][5] = std::nanf(""); });
+  EXPECT_NE(nan.find("field 'anderson_dg2' holds a non-finite value at cell (5, 0, 0)"),
+            std::string::npos)
+      << nan;
+
+  // The header edited behind a valid checksum: counts that contradict the arrays.
+  auto with_header = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json h =
+        nlohmann::json::from_cbor(good.begin() + 24, good.begin() + 24 + long(length));
+    edit(h["anderson"]);
+    const std::vector<std::uint8_t> header = nlohmann::json::to_cbor(h);
+    std::vector<unsigned char> out(good.begin(), good.begin() + 24);
+    const std::uint32_t crc = std::uint32_t(::crc32_z(0, header.data(), header.size()));
+    const std::uint64_t size = header.size();
+    std::memcpy(out.data() + 12, &crc, 4);
+    std::memcpy(out.data() + 16, &size, 8);
+    out.insert(out.end(), header.begin(), header.end());
+    out.insert(out.end(), good.begin() + 24 + long(length), good.end());
+    return error_of(out);
+  };
+  EXPECT_EQ(with_header([](nlohmann::json&) {}), "");
+  EXPECT_NE(with_header([](nlohmann::json& m) { m["columns"] = 4; }).find("4 column(s)"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m["newest"] = 1; })
+                .find("field 6 is 'anderson_dg2' on 16^3 with 4 bytes a value; expected "
+                      "'anderson_dg0'"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m["gram"][4] = std::nan(""); })
+                .find("Anderson mixer is not one a run holds: a non-finite Gram"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m["last_residual"] = -1.0; })
+                .find("last residual -1"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m["depth"] = 0; }).find("depth 0 outside"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m.erase("gram"); }).find("gram"),
+            std::string::npos);
+  EXPECT_NE(with_header([](nlohmann::json& m) { m = nullptr; }).find("fields listed"),
+            std::string::npos);
+
+  // Format 4: the same container without the mixer's section; read, marked as not carrying it.
+  std::vector<unsigned char> old = s.bytes;
+  ASSERT_EQ(old[8], kCheckpointFormat);
+  EXPECT_TRUE(parse_checkpoint(old).checkpoint.anderson_carried);
+  old[8] = 4;
+  const CheckpointFile o = parse_checkpoint(old);
+  EXPECT_FALSE(o.checkpoint.anderson_carried);
+  EXPECT_FALSE(o.checkpoint.anderson);
+  EXPECT_EQ(o.checkpoint.step, 11);
+}
+
 TEST(Checkpoint, RefusesTruncatedCorruptedAndForeignFiles) {
   const std::vector<unsigned char>& good = sample().bytes;
   EXPECT_EQ(error_of(good), "");
@@ -93,8 +225,8 @@ TEST(Checkpoint, RefusesTruncatedCorruptedAndForeignFiles) {
   b[0] = 'X';
   EXPECT_NE(error_of(b).find("not a cmcsurf checkpoint"), std::string::npos);
   b = good;
-  b[8] = 7;  // format
-  EXPECT_NE(error_of(b).find("format 7"), std::string::npos);
+  b[8] = 9;  // format
+  EXPECT_NE(error_of(b).find("format 9"), std::string::npos);
   b = good;
   b[40] ^= 1;  // inside the header
   EXPECT_NE(error_of(b).find("header's checksum"), std::string::npos);
@@ -182,7 +314,7 @@ TEST(Checkpoint, ReadsFromAFileAndNamesIt) {
   EXPECT_EQ(read_checkpoint(tmp / "c.bin").checkpoint.step, 11);
 }
 
-// Format 5 on one process (the whole grid as one piece; tests/mpi/pvti_test.cpp writes one per
+// Format 7 on one process (the whole grid as one piece; tests/mpi/pvti_test.cpp writes one per
 // process): the same bits back, a new id per checkpoint with the old pieces removed, and damaged,
 // stale, missing or misnamed pieces refused by name.
 TEST(Checkpoint, InPiecesKeepsEveryBitAndRefusesBadPieces) {
@@ -210,7 +342,7 @@ TEST(Checkpoint, InPiecesKeepsEveryBitAndRefusesBadPieces) {
   const std::filesystem::path first = pieces()[0];
   std::ifstream in(file, std::ios::binary);
   std::vector<unsigned char> bytes(std::istreambuf_iterator<char>(in), {});
-  EXPECT_EQ(bytes[8], 5);  // the format
+  EXPECT_EQ(bytes[8], kCheckpointPiecesFormat);
   const CheckpointFile f = read_checkpoint(file);
   const Checkpoint& a = s.checkpoint;
   const Checkpoint& b = f.checkpoint;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cahn_hilliard/anderson.h"
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
 #include "measure/components.h"
@@ -251,11 +252,17 @@ struct RunCursor {
 
 // A run's whole state between two time steps (docs/reliability.md), apart from its
 // parameters (RunParams, which the caller keeps): the position, the result so far (its phi on
-// cursor.grid; this process's block under a decomposition) and the stepper's carried fields.
+// cursor.grid; this process's block under a decomposition), the stepper's carried fields and
+// the Anderson mixer's history.
 struct Checkpoint {
   RunCursor cursor;
   RunResult result;
   ChStepperState stepper;
+  // The mixer of the relaxation in progress (none: no mixing there, or not carried).
+  std::optional<AndersonState> anderson;
+  // False for a checkpoint of a format before the mixer's (4, 5): a relaxation it continues
+  // starts the mixing afresh and ends on the same surface, not on the same bits.
+  bool anderson_carried = true;
   int step = 0;        // time steps taken, all stages
   double time = 0.0;   // model time
   bool last_step_converged = true;

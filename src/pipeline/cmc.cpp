@@ -239,6 +239,22 @@ std::string resume_problem(const Checkpoint& c, const RunParams& params, RunEntr
     return fmt::format("volume iterates before the volume stage ('{}')",
                        run_stage_name(k.stage));
   }
+
+  // The mixer's history: only inside a relaxation that mixes, at this run's depth, on the
+  // stage's grid (empty fields: a grid the decomposition does not split, named above).
+  if (const std::optional<AndersonState>& m = c.anderson) {
+    const bool mixes = k.stage != RunStage::kPrerelax && params.equilibrium_tol > 0.0 &&
+                       params.anderson_depth > 0;
+    if (!mixes)
+      return fmt::format("it carries Anderson mixing history, but this run does not mix in "
+                         "stage '{}' (anderson_depth {}, equilibrium_tol {})",
+                         run_stage_name(k.stage), params.anderson_depth, params.equilibrium_tol);
+    if (m->depth != AndersonMixer::effective_depth(params.anderson_depth))
+      return fmt::format("its Anderson mixer has depth {}; this run's has {}", m->depth,
+                         AndersonMixer::effective_depth(params.anderson_depth));
+    const std::string problem = m->problem(r.phi.interior_size());
+    if (!problem.empty()) return "its Anderson mixer: " + problem;
+  }
   return {};
 }
 
@@ -295,6 +311,8 @@ class Evolution {
     stepper_.set_params({eps, c.cursor.dt, params_.smoother});
     ChStepperState state = c.stepper;
     stepper_.restore_state(std::move(state));
+    resumed_anderson_ = c.anderson;  // relax() takes it over once its mixer exists
+    anderson_carried_ = c.anderson_carried;
     resuming_ = true;
   }
 
@@ -382,7 +400,8 @@ class Evolution {
     const double dt_max = std::max(dt0, params_.dt_max_factor * params_.h());
     double dt = dt0;
     int taken = 0;
-    if (resuming(stage)) {  // the checkpoint was taken inside this loop
+    const bool resumed = resuming(stage);
+    if (resumed) {  // the checkpoint was taken inside this loop
       a = cursor_.area;
       v = cursor_.volume;
       dt = cursor_.dt;
@@ -390,8 +409,19 @@ class Evolution {
       resuming_ = false;
     }
     const bool equilibrium = params_.equilibrium_tol > 0.0;
-    // The mixing starts afresh with each relaxation (its map differs after a mass correction).
-    if (equilibrium && params_.anderson_depth > 0) anderson_.emplace(params_.anderson_depth);
+    // The mixing starts afresh with each relaxation (its map differs after a mass correction),
+    // or goes on with the history the checkpoint carries.
+    if (equilibrium && params_.anderson_depth > 0) {
+      anderson_.emplace(params_.anderson_depth);
+      if (resumed && resumed_anderson_) anderson_->restore_state(std::move(*resumed_anderson_));
+      if (resumed && taken > 0 && !anderson_carried_)
+        result_.warnings.push_back(fmt::format(
+            "resumed from a checkpoint that predates the Anderson mixer's history (format 4 "
+            "or 5): the mixing started afresh before step {}, so the run ends on the "
+            "uninterrupted run's surface within the tolerance, not on its bits",
+            step_ + 1));
+    }
+    resumed_anderson_.reset();
     for (int s = taken; s < params_.max_steps; ++s) {
       mark(stage, taken, dt, a, v);
       stepper_.set_dt(dt);
@@ -523,6 +553,7 @@ class Evolution {
     c.last_step_converged = last_step_converged_;
     c.elapsed = seconds_since(t0_);
     c.stepper = stepper_.take_state();
+    if (anderson_) c.anderson = anderson_->take_state();
     if (control == RunControl::kStop) throw RunInterrupted(std::move(c));
     struct Restore {  // also when the callback throws
       Checkpoint& c;
@@ -530,6 +561,7 @@ class Evolution {
       ~Restore() {
         e.result_.phi = std::move(c.result.phi);
         e.stepper_.restore_state(std::move(c.stepper));
+        if (c.anderson) e.anderson_->restore_state(std::move(*c.anderson));
       }
     } restore{c, *this};
     if (context_.checkpoint) context_.checkpoint(c);
@@ -550,6 +582,9 @@ class Evolution {
   std::optional<ComponentConstraint> components_;
   std::optional<AndersonMixer> anderson_;
   Field unmixed_;  // the step's field while a mix is tried
+  // A checkpoint's mixer, until the relaxation it was taken in makes its own.
+  std::optional<AndersonState> resumed_anderson_;
+  bool anderson_carried_ = true;
 };
 
 // Constraint::kVolume after step 6: secant iteration on the mass m for V(m) = alpha, where

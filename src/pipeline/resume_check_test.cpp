@@ -74,6 +74,42 @@ TEST(ResumeCheck, AcceptsTheRunsOwnCheckpoints) {
   }
 }
 
+// A mixer's history only where the run mixes, at its depth, over the stage's cells.
+TEST(ResumeCheck, RefusesAMixerTheRunDoesNotHold) {
+  RunParams p = gyroid(16, 0);
+  p.equilibrium_tol = 1e-2;
+  p.anderson_depth = 3;
+  const Checkpoint c = stop_in(p, "relax", 16, 2);
+  ASSERT_EQ(resume_problem(c, p, RunEntry::kCmc), "");
+  ASSERT_TRUE(c.anderson);  // a fresh mixer: no history yet, but carried
+  EXPECT_EQ(c.anderson->columns, 0);
+  const auto with_history = [](Checkpoint& e) {
+    AndersonState& m = *e.anderson;
+    const std::size_t cells = e.result.phi.interior_size();
+    m.have_prev = true;
+    m.columns = 1;
+    m.newest = 0;
+    m.prev_g.assign(cells, 0.5);
+    m.prev_f.assign(cells, 0.0);
+    m.dg[0].assign(cells, 0.0f);
+    m.df[0].assign(cells, 0.0f);
+  };
+  EXPECT_EQ(problem_after(p, c, with_history), "");
+  EXPECT_NE(problem_after(p, c, [&](Checkpoint& e) {
+              with_history(e);
+              e.anderson->prev_f.pop_back();
+            }).find("its Anderson mixer: the last step's G and F hold 4096 and 4095 cells"),
+            std::string::npos);
+  RunParams deeper = p;
+  deeper.anderson_depth = 4;
+  EXPECT_NE(problem_after(deeper, c, with_history).find("has depth 3; this run's has 4"),
+            std::string::npos);
+  RunParams plain = p;
+  plain.anderson_depth = 0;
+  EXPECT_NE(problem_after(plain, c, with_history).find("this run does not mix"),
+            std::string::npos);
+}
+
 TEST(ResumeCheck, RefusesAVolumeStageWithoutItsIterates) {
   const RunParams p = gyroid(16, 0);
   const Checkpoint c = stop_in(p, "volume", 16);

@@ -10,6 +10,7 @@
 
 #include "io/checkpoint.h"
 #include "io/run_report.h"
+#include "model/run_options.h"
 #include "pipeline/cmc.h"
 #include "support/temp_dir.h"
 
@@ -176,6 +177,103 @@ TEST(Resume, CheckpointsDoNotChangeTheRun) {
   };
   expect_same_run(run_cmc(p, context), plain);
   EXPECT_GT(written, 5);
+}
+
+RunParams mixing_gyroid() {  // the fast mode as the command line sets it: Anderson mixing
+  RunParams p;
+  p.surface = "G";
+  p.volume_fraction = 0.35;
+  p.grid = 32;
+  finish_run_params(p, RunChoices{}, true);
+  return p;
+}
+
+// The uninterrupted mixing run, and the steps (counting from 1) before which its mixer holds
+// history, found by a checkpoint before every step (which must leave the run as it was).
+struct MixingRun {
+  RunParams params = mixing_gyroid();
+  RunResult whole;
+  std::vector<int> mixing;  // steps before which the mixer holds columns
+  int first_full_relax = 0;   // the first of them with every ring slot a column, in step 6
+  int first_full_volume = 0;  // ... in a relaxation after a mass correction
+};
+
+const MixingRun& mixing_run() {
+  static const MixingRun m = [] {
+    MixingRun m;
+    m.whole = run_cmc(m.params);
+    RunContext context;
+    context.control = [] { return RunControl::kCheckpoint; };
+    context.checkpoint = [&](const Checkpoint& c) {
+      if (!c.anderson || c.anderson->columns == 0) return;
+      m.mixing.push_back(c.step + 1);
+      int& full = c.cursor.stage == RunStage::kRelax ? m.first_full_relax : m.first_full_volume;
+      if (c.anderson->columns == c.anderson->depth && full == 0) full = c.step + 1;
+    };
+    expect_same_run(run_cmc(m.params, context), m.whole);
+    return m;
+  }();
+  return m;
+}
+
+// Stopped while the mixer holds history (its first column; the ring full, in step 6 and after
+// a mass correction), written, read and resumed, the run ends on the bits of the uninterrupted
+// one: the checkpoint carries the mixer's history. (Resumed with a fresh mixer instead, each of
+// these stops ends elsewhere: 32768 of 32768 cells differ, 35 to 46 steps against 44.)
+TEST(Resume, FastRunStoppedWhileMixingEndsOnTheSameBits) {
+  const MixingRun& m = mixing_run();
+  ASSERT_EQ(m.params.anderson_depth, 3);
+  ASSERT_FALSE(m.mixing.empty());
+  ASSERT_GT(m.first_full_relax, 0) << "the ring never filled in step 6";
+  ASSERT_GT(m.first_full_volume, 0) << "the ring never filled after a mass correction";
+  TempDir tmp("cmcsurf-resume-mixing");
+  for (const int k : {m.mixing.front(), m.first_full_relax, m.first_full_volume}) {
+    SCOPED_TRACE(::testing::Message() << "stopped before step " << k << " ("
+                                      << stage_text(m.whole.history[k - 1]) << ")");
+    Checkpoint c = stop_before(m.params, k, tmp);
+    ASSERT_TRUE(c.anderson_carried);
+    ASSERT_TRUE(c.anderson && c.anderson->columns > 0);
+    expect_same_run(resume(m.params, std::move(c)), m.whole);
+  }
+}
+
+// A checkpoint of format 4 (before the mixer's history) still resumes: the mixing starts
+// afresh, the run ends on the same surface within the stop rules' tolerances (not the same
+// bits), and its warnings say so.
+TEST(Resume, CheckpointWithoutTheMixerStartsItAfreshAndSaysSo) {
+  const MixingRun& m = mixing_run();
+  TempDir tmp("cmcsurf-resume-format4");
+  const int k = m.first_full_relax;
+  ASSERT_GT(k, 0);
+  Checkpoint c = stop_before(m.params, k, tmp);
+  c.anderson.reset();
+  const auto path = tmp / "old.bin";
+  write_checkpoint(path, params_json(m.params), c);
+  {  // The format 4 file is this one without the mixer's section: its format word says 4.
+    std::fstream f(path, std::ios::binary | std::ios::in | std::ios::out);
+    f.seekp(8);
+    const std::uint32_t four = 4;
+    f.write(reinterpret_cast<const char*>(&four), sizeof four);
+  }
+  CheckpointFile old = read_checkpoint(path);
+  EXPECT_FALSE(old.checkpoint.anderson_carried);
+  EXPECT_FALSE(old.checkpoint.anderson);
+  const RunResult r = resume(m.params, std::move(old.checkpoint));
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("mixing started afresh before step " + std::to_string(k)),
+            std::string::npos)
+      << r.warnings.back();
+  EXPECT_TRUE(r.converged);
+  long differ = 0;
+  for_each_cell(r.phi, [&](int i, int j, int l) {
+    differ += !same_bits(r.phi(i, j, l), m.whole.phi(i, j, l));
+  });
+  EXPECT_GT(differ, 0) << "the mixer's history made no difference: this test shows nothing";
+  // Both runs stop at the equilibrium rule and hold the sharp volume fraction within
+  // volume_tol; the surfaces they stop on then agree to about the equilibrium tolerance
+  // (relative area) and to 2 volume_tol.
+  EXPECT_NEAR(r.final.area, m.whole.final.area, m.params.equilibrium_tol * m.whole.final.area);
+  EXPECT_NEAR(r.final.volume_fraction, m.whole.final.volume_fraction, 2 * m.params.volume_tol);
 }
 
 }  // namespace

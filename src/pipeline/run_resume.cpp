@@ -83,7 +83,7 @@ void CheckpointSink::write(const Checkpoint& c) {
     // Fields every process holds whole (a grid the run does not split): rank 0 writes them.
     if (world_->rank() == 0) write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   } else {
-    // Whole grids: one file (format 4); blocks: every process writes its own piece (format 5,
+    // Whole grids: one file (format 6); blocks: every process writes its own piece (format 7,
     // collective), so that no process holds the whole grid (io/checkpoint.h).
     write_checkpoint(dir_ / kCheckpointFileName, params_, c, outputs_);
   }
@@ -116,7 +116,8 @@ InterruptedRun write_interrupted_run(const fs::path& dir, const RunParams& param
                             {"step", c.step},
                             {"stage", run_stage_name(c.cursor.stage)},
                             {"grid", c.cursor.grid},
-                            {"signal", signal}};
+                            {"signal", signal},
+                            {"anderson_columns", c.anderson ? c.anderson->columns : 0}};
     report["checkpoints_written"] = sink.written();
     report["checkpoint_seconds"] = sink.seconds();
     report["resume"] = resume_command;

@@ -28,7 +28,7 @@ constexpr double kDefaultCheckpointEvery = 120.0;
 // The RunContext hooks of a run writing into dir: control() asks for a checkpoint every
 // `every` seconds and stops when `stop_requested` says so (a signal; one decision for all
 // processes under MPI), and checkpoint() writes dir/checkpoint.bin (every process its blocks
-// under a decomposition: io/checkpoint.h, format 5). A failed periodic write is passed to
+// under a decomposition: io/checkpoint.h, format 7). A failed periodic write is passed to
 // `warn` once: the run goes on.
 class CheckpointSink {
  public:

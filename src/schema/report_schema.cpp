@@ -509,7 +509,8 @@ const std::vector<ReportKey> kDeclaredReportKeys = {
      .help = "--properties: the solid's stiffness and conductivity"},
     {.key = "checkpoint",
      .label = "checkpoint",
-     .help = "an interrupted run's checkpoint: file, step, stage, grid"},
+     .help = "an interrupted run's checkpoint: file, step, stage, grid, signal, "
+             "anderson_columns (the mixing history it carries)"},
     {.key = "resume",
      .label = "resume command",
      .help = "the command that resumes an interrupted run"},

@@ -138,12 +138,15 @@ sys.exit(0 if ok else 1)" ||
   { echo "FAIL: resumed sweep.json"; cat "$work/cres/sweep.json"; fail=1; }
 
 # SIGTERM to the ranks (mpirun passes it on): every group stops its member after one agreed
-# step with a checkpoint, mpirun exits 143, and the printed resume finishes the sweep as the
-# serial one. Without the fast mode's Anderson mixing: a checkpoint does not carry the mixer's
-# history, so a member resumed mid-mixing ends on the same surface but not on the same bits.
+# step with a checkpoint, mpirun exits 143, and the printed resume finishes the sweep on the
+# bits of the uninterrupted mpirun sweep, in the fast mode with its Anderson mixing (a
+# checkpoint carries the mixer's history, so a member stopped mid-mixing resumes to the same
+# bits). Against the serial sweep the mixing makes the sums' other order on a group of several
+# ranks show more (3.1e-12 relative in area_diffuse on np 4, groups of 2 ranks), so the bits
+# are compared with the uninterrupted mpirun sweep.
 sargs=(sweep --surface P --volume-fractions 0.4,0.6 --grid 32 --max-steps 120 --tol 1e-30
-       --constrain mass --anderson-depth 0 --no-plot --no-preview --no-report)
-"$bin" "${sargs[@]}" --quiet --out "$work/sserial" || { echo "FAIL: serial 32^3 sweep"; exit 1; }
+       --constrain mass --no-plot --no-preview --no-report)
+mpi "${sargs[@]}" --quiet --out "$work/smpi" || { echo "FAIL: mpirun 32^3 sweep"; exit 1; }
 timeout 60 "$mpiexec" -np "$np" --oversubscribe "$bin" "${sargs[@]}" --out "$work/cut" \
   2>"$work/cut.log" &
 pid=$!
@@ -162,7 +165,7 @@ grep -q "resume with: mpirun -np $np .* sweep --resume $work/cut" "$work/cut.log
 [ -s "$work/cut/P_0.40/checkpoint.bin" ] || { echo "FAIL: no checkpoint of P_0.40"; fail=1; }
 mpi sweep --resume "$work/cut" 2>"$work/resume.log" ||
   { echo "FAIL: resume after SIGTERM"; cat "$work/resume.log"; fail=1; }
-PYTHONPATH="$support" python3 "$work/compare.py" "$work/sserial" "$work/cut" 1e-12 || fail=1
+PYTHONPATH="$support" python3 "$work/compare.py" "$work/smpi" "$work/cut" 0 || fail=1
 if find "$work/cut" -name 'checkpoint*' | grep -q .; then echo "FAIL: checkpoint left"; fail=1; fi
 
 # An error in one group (a file where its member's folder goes, in a folder that is the sweep's
