@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "io/checkpoint.h"
+#include "io/json_file.h"  // read_json_file, which the commands call
 #include "io/output_folder.h"
 #include "io/run_report.h"
 #include "parallel/decomposition.h"
@@ -123,10 +124,6 @@ void remove_leftover_temporaries(const std::filesystem::path& dir, bool quiet);
 
 // This executable's path (for the resume command printed on interruption).
 std::string self_executable();
-
-// A JSON file a resume relies on (sweep.json, a member's report.json); a missing or unreadable
-// one throws std::runtime_error naming it.
-nlohmann::json read_json_file(const std::filesystem::path& path);
 
 // --resume: the run options given on the command line (`options`, add_run_options's) must agree
 // with the parameters the run started with (`saved`, params_json), each compared by its key;
