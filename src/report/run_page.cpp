@@ -108,6 +108,25 @@ std::string png_data_url(const fs::path& path) {
   return "data:image/png;base64," + base64(read_text(path));
 }
 
+// A sweep folder's sweep.json: its surfaces and volume fractions, the members' names' axes.
+struct SweepAxes {
+  std::vector<std::string> surfaces;
+  std::vector<double> fractions;
+};
+
+SweepAxes read_sweep_axes(const fs::path& summary_path) {
+  const nlohmann::json summary = read_json_file(summary_path);
+  SweepAxes axes;
+  try {
+    axes.surfaces = summary.at("surfaces").get<std::vector<std::string>>();
+    axes.fractions = summary.at("volume_fractions").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
+                                         summary_path.string(), e.what()));
+  }
+  return axes;
+}
+
 }  // namespace
 
 double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces,
@@ -167,16 +186,7 @@ double write_sweep_page(const fs::path& dir) {
     throw std::runtime_error(fmt::format(
         "'{}' has no sweep.json: not a complete sweep folder (a sweep writes it last)",
         dir.string()));
-  const nlohmann::json summary = read_json_file(summary_path);
-  std::vector<std::string> surfaces;
-  std::vector<double> fractions;
-  try {
-    surfaces = summary.at("surfaces").get<std::vector<std::string>>();
-    fractions = summary.at("volume_fractions").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
-                                         summary_path.string(), e.what()));
-  }
+  const auto [surfaces, fractions] = read_sweep_axes(summary_path);
   nlohmann::json members = nlohmann::json::array();
   std::vector<nlohmann::json> reports;
   double reach = 0.0;
@@ -284,16 +294,7 @@ GalleryMember gallery_member_from_folder(const fs::path& member_dir, const std::
 double write_gallery_from_folder(const fs::path& dir) {
   const auto t0 = WallClock::now();
   const fs::path summary_path = dir / "sweep.json";
-  const nlohmann::json summary = read_json_file(summary_path);
-  std::vector<std::string> surfaces;
-  std::vector<double> fractions;
-  try {
-    surfaces = summary.at("surfaces").get<std::vector<std::string>>();
-    fractions = summary.at("volume_fractions").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
-                                         summary_path.string(), e.what()));
-  }
+  const auto [surfaces, fractions] = read_sweep_axes(summary_path);
   std::vector<GalleryMember> members;
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {
