@@ -17,28 +17,11 @@ import base64
 import html.parser
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from headless_page import chromium, pointer, shown_matches  # noqa: E402
 from png_check import read_png, region_stats  # noqa: E402
-
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
-         "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
-         "--disable-dev-shm-usage",
-         "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
-         "--v=0"]
-
-
-def chromium(exe, page, work, *extra, fragment=""):
-    profile = os.path.join(work, "profile")
-    url = "file://" + os.path.abspath(page) + fragment
-    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, url]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
-    return p.stdout, p.stderr
-
 
 class Cells(html.parser.HTMLParser):
     """The status div and every td with data-key (with its row's data-member, if any)."""
@@ -85,25 +68,6 @@ class Cells(html.parser.HTMLParser):
             self._in_properties = False
 
 
-def pointer(doc, path):
-    """The value at a JSON pointer (RFC 6901) in doc."""
-    for part in path.split("/")[1:]:
-        part = part.replace("~1", "/").replace("~0", "~")
-        doc = doc[int(part)] if isinstance(doc, list) else doc[part]
-    return doc
-
-
-def shown_matches(text, want):
-    """The cell's text shows want to its printed digits (a trailing % is a percentage)."""
-    shown = text.split("±")[0].strip().rstrip("%")
-    scale = 100.0 if text.strip().endswith("%") else 1.0
-    digits = shown.lstrip("+-").split("e")[0].split(".")
-    ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-    if "e" in shown:
-        ulp *= 10.0 ** int(shown.split("e")[1])
-    return abs(float(shown) - scale * float(want)) <= 0.51 * ulp
-
-
 def main():
     exe, page, work = sys.argv[1:4]
     folder = os.path.dirname(os.path.abspath(page))
@@ -127,11 +91,7 @@ def main():
             continue
         want = report[key]
         assert float(value) == float(want), (member, key, value, want)
-        shown = text.split("±")[0].strip().rstrip("%")
-        scale = 100.0 if text.strip().endswith("%") else 1.0
-        digits = shown.lstrip("+-").split(".")
-        ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-        assert abs(float(shown) - scale * float(want)) <= 0.51 * ulp, (key, text, want)
+        assert shown_matches(text, want), (key, text, want)
         checked += 1
     assert checked >= 5, f"only {checked} numbers on the page"
     # The properties table: every number equals report.json's at its pointer.

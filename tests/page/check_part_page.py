@@ -10,29 +10,11 @@ usage: check_part_page.py CHROMIUM FILE.html WORKDIR
 import html.parser
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from headless_page import chromium, pointer, shown_matches  # noqa: E402
 from png_check import read_png, region_stats  # noqa: E402
-
-# As check_page.py (a run's page).
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
-         "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
-         "--disable-dev-shm-usage",
-         "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
-         "--v=0"]
-
-
-def chromium(exe, page, work, *extra, fragment=""):
-    profile = os.path.join(work, "profile")
-    url = "file://" + os.path.abspath(page) + fragment
-    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, url]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
-    return p.stdout, p.stderr
-
 
 class Page(html.parser.HTMLParser):
     def __init__(self):
@@ -56,22 +38,6 @@ class Page(html.parser.HTMLParser):
         if tag == "td" and self._path is not None:
             self.paths.append(tuple(self._path))
             self._path = None
-
-
-def pointer(doc, path):
-    for part in path.split("/")[1:]:
-        part = part.replace("~1", "/").replace("~0", "~")
-        doc = doc[int(part)] if isinstance(doc, list) else doc[part]
-    return doc
-
-
-def shown_matches(text, want):
-    shown = text.split("±")[0].strip().rstrip("%")
-    digits = shown.lstrip("+-").split("e")[0].split(".")
-    ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-    if "e" in shown:
-        ulp *= 10.0 ** int(shown.split("e")[1])
-    return abs(float(shown) - float(want)) <= 0.51 * ulp
 
 
 def main():
