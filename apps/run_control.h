@@ -49,7 +49,7 @@ CheckpointSink signal_checkpoint_sink(std::filesystem::path dir, const RunParams
                                       nlohmann::json outputs, double every,
                                       std::shared_ptr<const Decomposition> world);
 
-// Calls f, turning the library's OptionError (pipeline/run_options.h) into a UsageError.
+// Calls f, turning the library's OptionError (model/run_options.h) into a UsageError.
 template <class F>
 auto as_usage(F&& f) {
   try {
@@ -109,7 +109,7 @@ FolderClaim claim_folder(const std::filesystem::path& dir, const ClaimOptions& o
 std::function<std::string(const std::string&)> non_empty_text();
 
 // Refuses (UsageError, on every process alike: collective) a run whose memory estimate does
-// not fit what some process may still take (pipeline/run_options.h, check_run_memory).
+// not fit what some process may still take (model/run_options.h, check_run_memory).
 // `ranks`: the processes one run is split over (0: all of world's).
 void refuse_if_too_large(const RunParams& p, const Decomposition& world, int ranks = 0);
 
@@ -119,7 +119,7 @@ void add_force_option(CLI::App& app, bool& force);
 // A command line a user can paste into a POSIX shell: each word single-quoted where needed.
 std::string shell_quote(const std::string& word);
 
-// Removes what a writer killed before its commit left in dir (io/atomic_file.h), saying so.
+// Removes what a writer killed before its commit left in dir (common/atomic_file.h), saying so.
 void remove_leftover_temporaries(const std::filesystem::path& dir, bool quiet);
 
 // This executable's path (for the resume command printed on interruption).

@@ -55,7 +55,7 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
         o.ref);
   }
   try {
-    check_run_params(p, true);  // the command line's own checks (pipeline/run_options.h)
+    check_run_params(p, true);  // the command line's own checks (model/run_options.h)
   } catch (const OptionError& e) {
     throw std::runtime_error(fmt::format("parameter out of range: {}", e.what()));
   }
