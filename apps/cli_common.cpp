@@ -32,7 +32,7 @@ std::string plus_minus(double error) {
 
 namespace {
 
-// An integer option's text through the library's check (pipeline/option_checks.h), so that
+// An integer option's text through the library's check (model/option_checks.h), so that
 // Python says the same; text that is no integer is left to CLI11 ("Could not convert").
 std::function<std::string(const std::string&)> library_check(std::string (*check)(long long)) {
   return [check](const std::string& text) -> std::string {

@@ -28,13 +28,13 @@ struct UsageError : std::runtime_error {
 };
 
 // Options shared by run, sweep and scaffold: every option of the run option table
-// (pipeline/run_schema.h). The command line's side of RunChoices: the names given to the choice
+// (model/run_schema.h). The command line's side of RunChoices: the names given to the choice
 // options, and each option's CLI11 handle, whose count says whether it was given.
 struct RunOptionStrings {
   RunChoices choices;
   std::vector<std::pair<const RunOption*, const CLI::Option*>> options;
 };
-// What --fast selects: each table entry's `fast` (pipeline/run_schema.cpp).
+// What --fast selects: each table entry's `fast` (model/run_schema.cpp).
 void add_run_options(CLI::App& app, RunParams& p, RunOptionStrings& s, bool with_surface);
 // One more entry of the table, by key, where a command takes it beside add_run_options's
 // (sweep's --structure); not of the solver group.

@@ -1,6 +1,6 @@
 // cmcsurf scaffold: design targets in (surface, porosity, solid, cell size, box), a clean
 // printable part out (docs/scaffolds.md). The options and the driver are the library's
-// (pipeline/scaffold_run.h, shared with Python's cmcsurf.scaffold): this file adds them to the
+// (driver/scaffold_run.h, shared with Python's cmcsurf.scaffold): this file adds them to the
 // command line and prints the summary.
 #include <fmt/format.h>
 
@@ -295,7 +295,7 @@ CommandFn add_scaffold_command(CLI::App& root) {
       "removes fragments, checks that the pores percolate, measures wall and pore sizes, and "
       "writes FILE with FILE.json\nExample: cmcsurf scaffold --surface G --porosity 0.7 --solid "
       "sheet --cell-size 2 --size 10x10x20 --units mm --grid 32 --fast --out part.3mf");
-  // The scaffold's own options from their table (pipeline/scaffold_run.cpp), defaults shown.
+  // The scaffold's own options from their table (driver/scaffold_run.cpp), defaults shown.
   for (const ScaffoldOption& option : scaffold_option_table()) {
     CLI::Option* added = std::visit(
         [&](auto member) -> CLI::Option* {

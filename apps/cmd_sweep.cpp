@@ -141,7 +141,7 @@ SweepParams resumed_sweep(const CLI::App& app, const SweepParams& given, SweepCo
   return saved.sweep;
 }
 
-// The sweep driver (pipeline/sweep_driver.h) with the command line's options and printing.
+// The sweep driver (driver/sweep_driver.h) with the command line's options and printing.
 int sweep(SweepCommand& cmd, const CLI::App& app) {
   const bool resuming = !cmd.checkpoints.resume.empty();
   if (resuming) {

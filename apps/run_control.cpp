@@ -4,14 +4,12 @@
 
 #include <csignal>
 #include <cstring>
-#include <fstream>
 #include <iostream>
 
 #include <fmt/format.h>
 
 #include "cli_common.h"
 #include "common/atomic_file.h"
-#include "common/input_file.h"
 #include "io/json_file.h"
 #include "io/run_report.h"
 #include "schema/report_schema.h"
@@ -100,17 +98,6 @@ std::string self_executable() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   return ec ? "cmcsurf" : exe.string();
-}
-
-nlohmann::json read_json_file(const fs::path& path) {
-  require_regular_file(path, "JSON file");
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
-  }
 }
 
 std::string stop_signal_name() { return signal_name(SignalGuard::received()); }

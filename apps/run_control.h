@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "io/checkpoint.h"
+#include "io/json_file.h"  // read_json_file, which the commands call
 #include "io/output_folder.h"
 #include "io/run_report.h"
 #include "parallel/decomposition.h"
@@ -46,7 +47,7 @@ CheckpointSink signal_checkpoint_sink(std::filesystem::path dir, const RunParams
                                       nlohmann::json outputs, double every,
                                       std::shared_ptr<const Decomposition> world);
 
-// Calls f, turning the library's OptionError (pipeline/run_options.h) into a UsageError.
+// Calls f, turning the library's OptionError (model/run_options.h) into a UsageError.
 template <class F>
 auto as_usage(F&& f) {
   try {
@@ -106,7 +107,7 @@ FolderClaim claim_folder(const std::filesystem::path& dir, const ClaimOptions& o
 std::function<std::string(const std::string&)> non_empty_text();
 
 // Refuses (UsageError, on every process alike: collective) a run whose memory estimate does
-// not fit what some process may still take (pipeline/run_options.h, check_run_memory).
+// not fit what some process may still take (model/run_options.h, check_run_memory).
 // `ranks`: the processes one run is split over (0: all of world's).
 void refuse_if_too_large(const RunParams& p, const Decomposition& world, int ranks = 0);
 
@@ -116,15 +117,11 @@ void add_force_option(CLI::App& app, bool& force);
 // A command line a user can paste into a POSIX shell: each word single-quoted where needed.
 std::string shell_quote(const std::string& word);
 
-// Removes what a writer killed before its commit left in dir (io/atomic_file.h), saying so.
+// Removes what a writer killed before its commit left in dir (common/atomic_file.h), saying so.
 void remove_leftover_temporaries(const std::filesystem::path& dir, bool quiet);
 
 // This executable's path (for the resume command printed on interruption).
 std::string self_executable();
-
-// A JSON file a resume relies on (sweep.json, a member's report.json); a missing or unreadable
-// one throws std::runtime_error naming it.
-nlohmann::json read_json_file(const std::filesystem::path& path);
 
 // --resume: the run options given on the command line (`options`, add_run_options's) must agree
 // with the parameters the run started with (`saved`, params_json), each compared by its key;

@@ -18,7 +18,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import properties_table  # noqa: E402  (member(): the runs, reused)
+import properties_table  # noqa: E402  (member(): the runs, reused; the options)
 
 
 def flow(args, folder, surface, kind, porosity):
@@ -71,17 +71,10 @@ def table(rows):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--cmcsurf", required=True, help="the cmcsurf binary")
-    ap.add_argument("--out", required=True, help="folder for runs/ and props/")
-    ap.add_argument("--grid", type=int, default=64)
-    ap.add_argument("--threads", type=int, default=1)
-    ap.add_argument("--surfaces", nargs="+", default=["G", "P", "D"])
+    properties_table.add_common_arguments(ap, [0.5, 0.6, 0.7, 0.8, 0.9])
     ap.add_argument("--sheets", nargs="*", default=["G"], help="surfaces whose sheet is added")
-    ap.add_argument("--porosities", nargs="+", type=float, default=[0.5, 0.6, 0.7, 0.8, 0.9])
-    ap.add_argument("--reuse", action="store_true", help="keep runs and JSON already there")
     args = ap.parse_args()
-    for sub in ("runs", "props"):
-        os.makedirs(os.path.join(args.out, sub), exist_ok=True)
+    properties_table.make_folders(args)
     rows = []
     cases = [(s, "network") for s in args.surfaces] + [(s, "sheet") for s in args.sheets]
     for surface, kind in cases:

@@ -19,6 +19,22 @@ import subprocess
 import sys
 
 
+def add_common_arguments(ap, porosities):
+    """The options this script and bench/flow_table.py share (their runs/ folder is one)."""
+    ap.add_argument("--cmcsurf", required=True, help="the cmcsurf binary")
+    ap.add_argument("--out", required=True, help="folder for runs/ and props/")
+    ap.add_argument("--grid", type=int, default=64)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--surfaces", nargs="+", default=["G", "P", "D"])
+    ap.add_argument("--porosities", nargs="+", type=float, default=porosities)
+    ap.add_argument("--reuse", action="store_true", help="keep runs and JSON already there")
+
+
+def make_folders(args):
+    for sub in ("runs", "props"):
+        os.makedirs(os.path.join(args.out, sub), exist_ok=True)
+
+
 def member(args, surface, fraction):
     """Runs (or reuses) runs/S_A; returns (folder, None) or (None, reason)."""
     folder = os.path.join(args.out, "runs", f"{surface}_{fraction:g}")
@@ -108,18 +124,11 @@ def error_table(checks):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--cmcsurf", required=True, help="the cmcsurf binary")
-    ap.add_argument("--out", required=True, help="folder for runs/ and props/")
-    ap.add_argument("--grid", type=int, default=64)
-    ap.add_argument("--threads", type=int, default=1)
-    ap.add_argument("--surfaces", nargs="+", default=["G", "P", "D"])
-    ap.add_argument("--porosities", nargs="+", type=float, default=[0.7, 0.5, 0.9])
-    ap.add_argument("--reuse", action="store_true", help="keep runs and JSON already there")
+    add_common_arguments(ap, [0.7, 0.5, 0.9])
     ap.add_argument("--grid-check", nargs="*", default=[], metavar="S:KIND:P",
                     help="cases also solved with --grid-check, e.g. G:network:0.7")
     args = ap.parse_args()
-    for sub in ("runs", "props"):
-        os.makedirs(os.path.join(args.out, sub), exist_ok=True)
+    make_folders(args)
 
     networks, sheets = [], []
     for porosity in args.porosities:

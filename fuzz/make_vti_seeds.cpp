@@ -1,7 +1,8 @@
 // Writes the valid seeds of fuzz/corpus/vti/ with the real writer, and the broken ones as
 // small edits of them. Not part of any build; from the repository root:
 //   g++ -std=c++20 -O1 -fopenmp -Isrc fuzz/make_vti_seeds.cpp src/io/vti.cpp \
-//       src/io/atomic_file.cpp src/grid/field.cpp src/grid/halo.cpp \
+//       src/common/atomic_file.cpp src/common/input_file.cpp \
+//       src/common/text_encoding.cpp src/grid/field.cpp src/grid/halo.cpp \
 //       src/parallel/decomposition.cpp -lfmt -o /tmp/make_vti_seeds && /tmp/make_vti_seeds
 #include <cmath>
 #include <cstdint>

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "field_array.h"
 #include "io/periodic_mesh_file.h"
 #include "io/pvti.h"
 #include "measure/sharp_surface.h"
@@ -31,30 +32,7 @@ Field analysis_field(const py::array_t<double, py::array::c_style | py::array::f
   if (a.ndim() != 3 || a.shape(0) != a.shape(1) || a.shape(0) != a.shape(2) || a.shape(0) < 4)
     throw py::value_error(
         fmt::format("{}: accepted: a cubic (N, N, N) array of real numbers, N >= 4", name));
-  const int n = int(a.shape(0));
-  const double* v = a.data();
-  Field f(n, 2);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) {
-        const double x = v[(std::size_t(i) * n + j) * n + k];
-        if (!std::isfinite(x))
-          throw py::value_error(fmt::format("{}: {} at [{}, {}, {}]; accepted: finite values",
-                                            name, x, i, j, k));
-        f(i, j, k) = x;
-      }
-  f.exchange_halo();
-  return f;
-}
-
-py::array_t<double> array_of(const Field& f) {
-  const int n = f.n();
-  py::array_t<double> out({n, n, n});
-  double* a = out.mutable_data();
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) a[(std::size_t(i) * n + j) * n + k] = f(i, j, k);
-  return out;
+  return field_from_cube(a.data(), int(a.shape(0)), name);
 }
 
 Field psi_of(const Field& phi) {
@@ -103,7 +81,7 @@ py::array_t<double> signed_distance(
     const py::array_t<double, py::array::c_style | py::array::forcecast>& phi, double epsilon) {
   if (!(epsilon > 0.0 && epsilon < 1.0))
     throw py::value_error(fmt::format("epsilon: got {}; accepted: 0 < E < 1", epsilon));
-  return array_of(profile_distance(psi_of(analysis_field(phi, "phi")), epsilon));
+  return cube_from_field(profile_distance(psi_of(analysis_field(phi, "phi")), epsilon));
 }
 
 // Every array of a run folder's field file (field.vti or field.pvti) or of a .vti/.pvti, and
@@ -115,7 +93,7 @@ py::dict read_field(const std::filesystem::path& path) {
   options.ghost = 2;
   VtiData data = read_field_file(file, options);
   py::dict arrays;
-  for (const auto& [name, field] : data.arrays) arrays[py::str(name)] = array_of(field);
+  for (const auto& [name, field] : data.arrays) arrays[py::str(name)] = cube_from_field(field);
   py::dict out;
   out["file"] = file;
   out["arrays"] = arrays;

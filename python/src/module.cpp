@@ -60,6 +60,7 @@
 #include "report/run_page.h"
 #include "pipeline/sweep.h"
 #include "surfaces/initial.h"
+#include "field_array.h"
 #include "scaffold.h"
 
 namespace py = pybind11;
@@ -80,12 +81,7 @@ py::object to_python(const nlohmann::json& j) {
 
 // A copy of the interior as a read-only C-contiguous (N, N, N) float64 array indexed [i, j, k].
 py::array_t<double> field_to_array(const Field& f) {
-  const int n = f.n();
-  py::array_t<double> out({n, n, n});
-  double* a = out.mutable_data();
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) a[(std::size_t(i) * n + j) * n + k] = f(i, j, k);
+  py::array_t<double> out = cube_from_field(f);
   out.attr("setflags")(py::arg("write") = false);
   return out;
 }
@@ -122,19 +118,7 @@ Field array_to_field(py::handle obj, const char* name) {
     throw py::value_error(fmt::format("{}: shape ({}, {}, {}): {}", name, n, n, n, why));
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
   if (!a) throw py::error_already_set();
-  const double* v = a.data();
-  Field f(n, 2);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) {
-        const double x = v[(std::size_t(i) * n + j) * n + k];
-        if (!std::isfinite(x))
-          throw py::value_error(fmt::format(
-              "{}: {} at [{}, {}, {}]; accepted: finite values", name, x, i, j, k));
-        f(i, j, k) = x;
-      }
-  f.exchange_halo();
-  return f;
+  return field_from_cube(a.data(), n, name);
 }
 
 // ---- options ---------------------------------------------------------------------------

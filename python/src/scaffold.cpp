@@ -1,4 +1,4 @@
-// The binding of `cmcsurf scaffold` (pipeline/scaffold_run.h) and of a unit cell's morphometry:
+// The binding of `cmcsurf scaffold` (driver/scaffold_run.h) and of a unit cell's morphometry:
 // arguments arrive as JSON-ready values (cmcsurf/__init__.py checks their types against the
 // option table), the library checks their ranges with the command line's messages (ValueError)
 // and computes; nothing is computed here.

@@ -76,7 +76,10 @@ FinishedRun finish_run_folder(const std::filesystem::path& dir, const RunParams&
         if (surface) write_run_surface_mesh(dir, *surface, o.mesh_format);
         if (outputs.preview) write_png(dir / "preview.png", outputs.preview->image);
         if (!youngs.image.rgb.empty()) write_png(dir / kYoungsPictureName, youngs.image);
-        if (outputs.page) write_run_page(dir, &*outputs.page, &report_to_be);
+        if (outputs.page)
+          write_run_page(dir, *outputs.page,
+                         {report_to_be, history_csv(r.history),
+                          curvature_histogram_csv(outputs.quality)});
       });
   if (o.remove_checkpoint) remove_checkpoint(dir / kCheckpointFileName);
   return out;

@@ -1,6 +1,6 @@
 // The sweep driver (`cmcsurf sweep` and its resume; docs/families.md, docs/scaling.md): the
 // members of a sweep run into one folder, one process or groups of processes under mpirun,
-// each member's folder finished as `run` finishes its own (pipeline/run_finish.h), with
+// each member's folder finished as `run` finishes its own (driver/run_finish.h), with
 // sweep.csv, sweep.json, families.png, gallery.png, the properties chart and report.html.
 // The command line parses and prints (apps/cmd_sweep.cpp): what happens reaches it through
 // SweepHooks. Errors a user can cause are OptionError; the driver's outcome is an exit code

@@ -72,6 +72,36 @@ TEST(IoJson, ReadErrorsNameTheFile) {
   }
 }
 
+TEST(IoJson, ReadJsonFileReadsWhatWasWritten) {
+  TempDir tmp;
+  const nlohmann::json report = {{"volume_fraction", 0.1 + 0.2}, {"tiny", 2e-300}};
+  const auto path = tmp / "report.json";
+  write_json_atomic(path, report);
+  EXPECT_EQ(read_json_file(path), report);  // doubles exact
+}
+
+// Each message starts with the path, so a resume or a command names the file it could not use.
+TEST(IoJson, ReadJsonFileErrorsNameTheFile) {
+  TempDir tmp;
+  auto message = [](const std::filesystem::path& p) -> std::string {
+    try {
+      read_json_file(p);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "no exception";
+  };
+  const auto missing = tmp / "missing.json";
+  EXPECT_EQ(message(missing), missing.string() + ": cannot open");
+  const auto bad = tmp / "bad.json";
+  write_file_atomic(bad, "{\n  \"a\": 1,\n  \"b\": \n}\n");
+  const std::string parse = message(bad);
+  EXPECT_EQ(parse.rfind(bad.string() + ": not valid JSON: ", 0), 0u) << parse;
+  EXPECT_NE(parse.find("line 4"), std::string::npos) << parse;
+  const std::string dir = message(tmp.dir());
+  EXPECT_NE(dir.find("is not a regular file (a directory)"), std::string::npos) << dir;
+}
+
 TEST(IoJson, InvalidUtf8IsAnError) {
   TempDir tmp;
   const auto path = tmp / "bad_utf8.json";

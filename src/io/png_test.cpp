@@ -44,17 +44,6 @@ TEST(Png, UnreadableFileNamesItself) {
   }
 }
 
-TEST(ReportHtml, Base64OfRfc4648Vectors) {
-  EXPECT_EQ(base64(""), "");
-  EXPECT_EQ(base64("f"), "Zg==");
-  EXPECT_EQ(base64("fo"), "Zm8=");
-  EXPECT_EQ(base64("foo"), "Zm9v");
-  EXPECT_EQ(base64("foob"), "Zm9vYg==");
-  EXPECT_EQ(base64("fooba"), "Zm9vYmE=");
-  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
-  EXPECT_EQ(base64(std::string("\xff\x00\x80", 3)), "/wCA");
-}
-
 TEST(ReportHtml, NumbersCarryAllDigitsAndTheScriptCannotBeClosedByData) {
   const nlohmann::json report = {{"area", 3.0918123456789}, {"grid", 64},
                                  {"surface", "expr:</script><b>"}, {"nodal_area_excess", 0.00123}};

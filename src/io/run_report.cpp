@@ -55,7 +55,7 @@ RunParams params_from_json(const nlohmann::json& j, const RunParams& base) {
         o.ref);
   }
   try {
-    check_run_params(p, true);  // the command line's own checks (pipeline/run_options.h)
+    check_run_params(p, true);  // the command line's own checks (model/run_options.h)
   } catch (const OptionError& e) {
     throw std::runtime_error(fmt::format("parameter out of range: {}", e.what()));
   }
@@ -376,7 +376,7 @@ void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v) 
   throw std::logic_error("set_history_value: a column without a case");
 }
 
-void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
+std::string history_csv(const std::vector<StepRecord>& history) {
   const std::vector<HistoryColumnInfo>& columns = history_column_table();
   std::string out = history_header() + "\n";
   for (const StepRecord& r : history) {
@@ -387,7 +387,11 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
     }
     out += '\n';
   }
-  write_file_atomic(path, out);
+  return out;
+}
+
+void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history) {
+  write_file_atomic(path, history_csv(history));
 }
 
 nlohmann::json quality_json(const CmcQuality& q, double relaxed_area) {
@@ -416,13 +420,17 @@ nlohmann::json quality_json(const CmcQuality& q, double relaxed_area) {
           {"quality_seconds", q.seconds}};
 }
 
-void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q) {
+std::string curvature_histogram_csv(const CmcQuality& q) {
   std::string out = "H_lo,H_hi,relaxed,nodal\n";
   for (std::size_t b = 0; b + 1 < q.edges.size(); ++b)
     out += fmt::format("{:.17g},{:.17g},{:.17g},{}\n", q.edges[b], q.edges[b + 1],
                        q.relaxed_hist[b],
                        q.has_nodal ? fmt::format("{:.17g}", q.nodal_hist[b]) : std::string());
-  write_file_atomic(path, out);
+  return out;
+}
+
+void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q) {
+  write_file_atomic(path, curvature_histogram_csv(q));
 }
 
 void write_curvature_distribution_csv(const std::filesystem::path& path, const CmcQuality& q) {

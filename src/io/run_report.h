@@ -88,7 +88,9 @@ HistoryValue history_value(const StepRecord& r, HistoryColumn c);
 // an unknown stage.
 void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v);
 
-// history.csv: one row per step, history_column_table()'s columns in their formats.
+// history.csv: one row per step, history_column_table()'s columns in their formats. The text
+// is also the run page's (report/run_page.h), which a run hands it without reading the file.
+std::string history_csv(const std::vector<StepRecord>& history);
 void write_history_csv(const std::filesystem::path& path, const std::vector<StepRecord>& history);
 
 // CMC quality keys merged into report.json (docs/families.md): mean_curvature_std, area_iso,
@@ -96,7 +98,9 @@ void write_history_csv(const std::filesystem::path& path, const std::vector<Step
 // nodal_area_excess (nodal_area / area - 1), nodal_area_excess_iso, ...; nodal keys are null
 // for surfaces without a nodal formula.
 nlohmann::json quality_json(const CmcQuality& q, double relaxed_area);
-// curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H).
+// curvature_histogram.csv: H_lo, H_hi, relaxed, nodal (area fraction per bin of local H); its
+// text, as history_csv's, is also the run page's.
+std::string curvature_histogram_csv(const CmcQuality& q);
 void write_curvature_histogram_csv(const std::filesystem::path& path, const CmcQuality& q);
 // The relaxed surface's H and K distributions, each on its own range: bin, H_lo, H_hi,
 // H_fraction, K_lo, K_hi, K_fraction (area fractions).

@@ -25,6 +25,7 @@
 
 #include "common/atomic_file.h"
 #include "common/input_file.h"
+#include "common/text_encoding.h"
 
 namespace cmcsurf {
 
@@ -34,21 +35,6 @@ static_assert(std::endian::native == std::endian::little,
 namespace {
 
 // ---- shared helpers ---------------------------------------------------------
-
-std::string xml_escape(std::string_view s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string xml_unescape(std::string_view s) {
   std::string out;

@@ -1,9 +1,11 @@
 // For tests: the whole unit torus as m^3 cubes of 6 Kuhn tets, a PeriodicTets with known
-// volume, angles and edge lengths.
+// volume, angles and edge lengths; and what every unfolding of the whole torus must show.
 #pragma once
 
 #include <cmath>
 #include <random>
+
+#include <gtest/gtest.h>
 
 #include "grid/kuhn.h"
 #include "mesh/tet_mesh.h"
@@ -58,6 +60,20 @@ inline PeriodicTets kuhn_torus(int m, double shift = 0.37, double jitter = 0.0,
           t.offsets.push_back(o);
         }
   return t;
+}
+
+// The whole torus unfolded (unfold_periodic_tets, after cut_at_cell_faces too) fills a block of the
+// given volume to round-off, positive tets in one piece, its periodic faces matched face for
+// face and its cut nodes paired with points one period away.
+inline void expect_whole_torus_unfolded(const TetMeshStats& s, double volume) {
+  EXPECT_NEAR(s.volume, volume, 1e-12 * volume);
+  EXPECT_EQ(s.inverted, 0u);
+  EXPECT_EQ(s.degenerate, 0u);
+  EXPECT_EQ(s.components, 1u);
+  EXPECT_EQ(s.unmatched_faces, 0u);
+  EXPECT_EQ(s.unpaired_nodes, 0u);
+  EXPECT_GT(s.periodic_faces, 0u);
+  EXPECT_LT(s.pair_mismatch, 1e-15);
 }
 
 }  // namespace cmcsurf

@@ -1,5 +1,5 @@
 // The option checks that are not ranges of RunParams (those are finish_run_params's,
-// pipeline/run_options.h): --threads, which is no run parameter, and the sign of --seed, which
+// model/run_options.h): --threads, which is no run parameter, and the sign of --seed, which
 // an unsigned RunParams::seed cannot hold. The command line (CLI11 checks, apps/cli_common.cpp)
 // and the Python module call these, so both say the same. Each returns "" when the value is
 // accepted, else what follows "--option: " in the message.

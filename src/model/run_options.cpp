@@ -110,7 +110,7 @@ void check_run_params(const RunParams& p, bool check_surface) {
   if (const std::string why = check_fraction_on_grid(p.volume_fraction, p.grid);
       check_surface && !why.empty())
     throw OptionError("--volume-fraction: " + why);
-  // Each option's own range (pipeline/run_schema.h), in the table's order.
+  // Each option's own range (model/run_schema.h), in the table's order.
   for (const RunOption& o : run_option_table()) {
     if (*o.accepted == '\0') continue;
     std::visit(

@@ -18,7 +18,7 @@ struct OptionError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-// What a user gave beside RunParams' own members (pipeline/run_schema.h): the names of the
+// What a user gave beside RunParams' own members (model/run_schema.h): the names of the
 // choice options, converted and checked by finish_run_params, and which options were given
 // (--fast leaves those alone). Keyed by the option's key.
 struct RunChoices {

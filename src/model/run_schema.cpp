@@ -42,7 +42,7 @@ const std::vector<RunOption>& table() {
        .solver_group = false,
        .ref = RunMember<double>([](RunParams& p) -> double& { return p.volume_fraction; }),
        .optional_in_json = true},  // the same
-      // --structure double: two networks in a matrix (pipeline/cmc.h's Structure).
+      // --structure double: two networks in a matrix (model/run.h's Structure).
       {.key = "structure",
        .cli = "--structure",
        .help = "Nodal surfaces: single (phase 1 = {F > c}) or double (phase 1 = {|F| > c}: two "

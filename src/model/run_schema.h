@@ -1,7 +1,7 @@
 // The run options in one table: the options of `cmcsurf run` (also of `sweep` and of Python's
 // run, relax and sweep) and the keys of report.json's `parameters`. Each entry names one
 // option once; the command line (apps/cli_common.cpp), the range checks
-// (pipeline/run_options.cpp), the JSON round trip (io/run_report.cpp), resume's comparison
+// (model/run_options.cpp), the JSON round trip (io/run_report.cpp), resume's comparison
 // and the Python keywords (python/src/module.cpp) walk this table instead of spelling it.
 #pragma once
 

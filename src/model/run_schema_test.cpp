@@ -72,7 +72,7 @@ TEST(RunSchema, KeysAndCommandLineNamesAreUnique) {
 }
 
 // A tripwire: a member added to RunParams, or to the solver options it holds, changes these
-// counts. Give it an entry in pipeline/run_schema.cpp (or say here why it is no parameter), then
+// counts. Give it an entry in model/run_schema.cpp (or say here why it is no parameter), then
 // update the count.
 TEST(RunSchema, EveryParameterMemberHasAnEntry) {
   EXPECT_EQ(aggregate_members<RunParams>(), 33u);  // 32 entries and `solver`

@@ -26,17 +26,6 @@ double now_seconds() {
       .count();
 }
 
-nlohmann::json read_report(const fs::path& path) {
-  require_regular_file(path, "JSON file");
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
-  }
-}
-
 }  // namespace
 
 CheckpointSink::CheckpointSink(fs::path dir, const RunParams& params, nlohmann::json outputs,
@@ -233,7 +222,7 @@ MemberDecision decide_member(const fs::path& mdir, const SweepMember& m, bool re
     if (resuming && fs::exists(mdir / kCheckpointFileName)) {
       d.kind = MemberDecision::Kind::kResume;
     } else if (resuming && fs::exists(mdir / "report.json")) {
-      nlohmann::json report = read_report(mdir / "report.json");
+      nlohmann::json report = read_json_file(mdir / "report.json");
       if (report.value("stop_reason", "") != "interrupted" &&
           (fs::exists(mdir / kRunFieldVti) || fs::exists(mdir / kRunFieldPvti)) &&
           report.value("parameters", nlohmann::json()) == params_json(m.params) &&

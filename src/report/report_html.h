@@ -9,12 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/text_encoding.h"  // base64, html_escape: the page's encoders
 #include "render/draw_surface.h"
 #include "render/preview.h"
 
 namespace cmcsurf {
-
-std::string base64(std::string_view bytes);
 
 // A mesh for the page: counts, the cell origin o, and base64 of little-endian arrays: positions
 // as uint16 q with x = o + q / 65535 (the cell spans [o, o + 1]), int8 normals (x127), float32
@@ -48,8 +47,6 @@ std::string numbers_table_html(const nlohmann::json& report, const std::vector<N
 // data-path, the JSON pointer of its number in report.json, and data-value with all 17 digits;
 // "± e" where the dictionary has the grid check's *_error.
 std::string properties_table_html(const nlohmann::json& properties);
-
-std::string html_escape(std::string_view s);
 
 struct ReportPage {
   std::string title;     // <title> and <h1>

@@ -46,10 +46,10 @@ nlohmann::json read_json_file(const fs::path& path) {
   }
 }
 
-// A CSV file of numbers (and bare words) with a header, as columns: {name: [values]}. Numbers
-// stay numbers, anything else a string.
-nlohmann::json read_csv_columns(const fs::path& path) {
-  std::istringstream in(read_text(path));
+// The text of a CSV file of numbers (and bare words) with a header, as columns:
+// {name: [values]}. Numbers stay numbers, anything else a string. `path` names it in messages.
+nlohmann::json csv_columns(const std::string& text, const fs::path& path) {
+  std::istringstream in(text);
   std::string line;
   std::vector<std::string> names;
   nlohmann::json columns = nlohmann::json::object();
@@ -91,6 +91,8 @@ nlohmann::json read_csv_columns(const fs::path& path) {
   return columns;
 }
 
+nlohmann::json read_csv_columns(const fs::path& path) { return csv_columns(read_text(path), path); }
+
 // psi = atanh(2 phi - 1) of a folder's field.vti (or field.pvti), for preview_surfaces.
 Field read_psi(const fs::path& dir) {
   VtiReadOptions options;
@@ -108,18 +110,34 @@ std::string png_data_url(const fs::path& path) {
   return "data:image/png;base64," + base64(read_text(path));
 }
 
+// A sweep folder's sweep.json: its surfaces and volume fractions, the members' names' axes.
+struct SweepAxes {
+  std::vector<std::string> surfaces;
+  std::vector<double> fractions;
+};
+
+SweepAxes read_sweep_axes(const fs::path& summary_path) {
+  const nlohmann::json summary = read_json_file(summary_path);
+  SweepAxes axes;
+  try {
+    axes.surfaces = summary.at("surfaces").get<std::vector<std::string>>();
+    axes.fractions = summary.at("volume_fractions").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
+                                         summary_path.string(), e.what()));
+  }
+  return axes;
+}
+
 }  // namespace
 
-double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces,
-                      const nlohmann::json* given_report) {
-  const auto t0 = WallClock::now();
-  const fs::path report_path = dir / "report.json";
-  if (!given_report && !fs::exists(report_path))
-    throw std::runtime_error(fmt::format(
-        "'{}' has no report.json: not a complete run folder (a run writes it last)", dir.string()));
-  const nlohmann::json report = given_report ? *given_report : read_json_file(report_path);
-  const nlohmann::json history = read_csv_columns(dir / "history.csv");
-  const nlohmann::json histogram = read_csv_columns(dir / "curvature_histogram.csv");
+namespace {
+
+// The page of a run folder from its report and columns; the meshes from `surfaces` or, when
+// null, from the folder's field.
+void write_run_page_of(const fs::path& dir, const PreviewSurfaces* surfaces,
+                       const nlohmann::json& report, const nlohmann::json& history,
+                       const nlohmann::json& histogram) {
   const std::string surface = report.value("surface", std::string("?"));
   const double h = number_or(report, "mean_curvature", 0.0);
   const bool nodal = report.contains("nodal_level") && report["nodal_level"].is_number();
@@ -157,6 +175,30 @@ double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces,
                {"history", history},
                {"histogram", histogram}};
   write_file_atomic(dir / "report.html", report_page_html(page));
+}
+
+}  // namespace
+
+double write_run_page(const fs::path& dir, const PreviewSurfaces* surfaces) {
+  const auto t0 = WallClock::now();
+  const fs::path report_path = dir / "report.json";
+  if (!fs::exists(report_path))
+    throw std::runtime_error(fmt::format(
+        "'{}' has no report.json: not a complete run folder (a run writes it last)", dir.string()));
+  const nlohmann::json report = read_json_file(report_path);
+  const nlohmann::json history = read_csv_columns(dir / "history.csv");
+  const nlohmann::json histogram = read_csv_columns(dir / "curvature_histogram.csv");
+  write_run_page_of(dir, surfaces, report, history, histogram);
+  return seconds_since(t0);
+}
+
+double write_run_page(const fs::path& dir, const PreviewSurfaces& surfaces,
+                      const RunPageData& data) {
+  const auto t0 = WallClock::now();
+  const nlohmann::json history = csv_columns(data.history_csv, dir / "history.csv");
+  const nlohmann::json histogram =
+      csv_columns(data.curvature_histogram_csv, dir / "curvature_histogram.csv");
+  write_run_page_of(dir, &surfaces, data.report, history, histogram);
   return seconds_since(t0);
 }
 
@@ -167,16 +209,7 @@ double write_sweep_page(const fs::path& dir) {
     throw std::runtime_error(fmt::format(
         "'{}' has no sweep.json: not a complete sweep folder (a sweep writes it last)",
         dir.string()));
-  const nlohmann::json summary = read_json_file(summary_path);
-  std::vector<std::string> surfaces;
-  std::vector<double> fractions;
-  try {
-    surfaces = summary.at("surfaces").get<std::vector<std::string>>();
-    fractions = summary.at("volume_fractions").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
-                                         summary_path.string(), e.what()));
-  }
+  const auto [surfaces, fractions] = read_sweep_axes(summary_path);
   nlohmann::json members = nlohmann::json::array();
   std::vector<nlohmann::json> reports;
   double reach = 0.0;
@@ -284,16 +317,7 @@ GalleryMember gallery_member_from_folder(const fs::path& member_dir, const std::
 double write_gallery_from_folder(const fs::path& dir) {
   const auto t0 = WallClock::now();
   const fs::path summary_path = dir / "sweep.json";
-  const nlohmann::json summary = read_json_file(summary_path);
-  std::vector<std::string> surfaces;
-  std::vector<double> fractions;
-  try {
-    surfaces = summary.at("surfaces").get<std::vector<std::string>>();
-    fractions = summary.at("volume_fractions").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("'{}' lacks surfaces or volume_fractions: {}",
-                                         summary_path.string(), e.what()));
-  }
+  const auto [surfaces, fractions] = read_sweep_axes(summary_path);
   std::vector<GalleryMember> members;
   for (std::size_t si = 0; si < surfaces.size(); ++si)
     for (double alpha : fractions) {

@@ -1,7 +1,8 @@
-// The pages of a run or sweep folder (docs/report.md): report.html, made from the folder's
-// files alone (report.json, history.csv, curvature_histogram.csv, field.vti; for a sweep also
-// sweep.json, sweep.csv, families.png and each member's folder), so `cmcsurf report DIR`
-// remakes it at any time; and a sweep's gallery.png. The CLI (run, sweep, report) and the
+// The pages of a run or sweep folder (docs/report.md): report.html, which can be made from the
+// folder's files alone (report.json, history.csv, curvature_histogram.csv, field.vti; for a
+// sweep also sweep.json, sweep.csv, families.png and each member's folder), so `cmcsurf report
+// DIR` remakes it at any time (a finishing run hands its own data instead); and a sweep's
+// gallery.png. The CLI (run, sweep, report) and the
 // Python module (Result.save) call these.
 #pragma once
 
@@ -16,13 +17,25 @@
 
 namespace cmcsurf {
 
-// Writes dir/report.html for a run folder; returns its wall time in seconds. Throws
-// std::runtime_error naming the file that is missing or unreadable. `surfaces`: the page's
-// meshes (kPageCells) when the caller computed them (run_outputs); otherwise they are drawn
-// from the folder's field.vti. `report`: the run's report.json when the caller has it and has
-// not written it yet (a run writes report.json last, after this page), else it is read.
-double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* surfaces = nullptr,
-                      const nlohmann::json* report = nullptr);
+// Writes dir/report.html for a run folder from its files (report.json, history.csv,
+// curvature_histogram.csv); returns its wall time in seconds. Throws std::runtime_error naming
+// the file that is missing or unreadable. `surfaces`: the page's meshes (kPageCells) when the
+// caller computed them; otherwise they are drawn from the folder's field.vti.
+double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces* surfaces = nullptr);
+
+// What a finishing run hands its page instead of the files: the report to be written (a run
+// writes report.json last, after this page) and the text of history.csv and
+// curvature_histogram.csv (history_csv, curvature_histogram_csv: io/run_report.h).
+struct RunPageData {
+  nlohmann::json report;
+  std::string history_csv;
+  std::string curvature_histogram_csv;
+};
+// The same page from the run's own data and meshes (run_outputs), byte for byte what the
+// folder's files give (tests/cli/report_page.sh compares), with no file read but the folder's
+// pictures (youngs_modulus.png).
+double write_run_page(const std::filesystem::path& dir, const PreviewSurfaces& surfaces,
+                      const RunPageData& data);
 // Writes dir/report.html for a sweep folder (sweep.json beside the member folders).
 double write_sweep_page(const std::filesystem::path& dir);
 

@@ -1,6 +1,6 @@
 // The names a user reads in a run's outputs, each declared once with its label, unit, format
 // and help: report.json's keys, history.csv's columns (and the stages in its "stage" column)
-// and sweep.csv's leading columns. The run page and the sweep page (pipeline/run_page.cpp), the
+// and sweep.csv's leading columns. The run page and the sweep page (report/run_page.cpp), the
 // command line's summaries, the history writer and reader (io/run_report.cpp,
 // io/checkpoint.cpp), sweep.csv (io/run_report.cpp), Python's history (python/src/module.cpp),
 // scripts/sweep_table.py and the tests' timing keys (tests/support/report_keys.py, through

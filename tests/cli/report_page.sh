@@ -2,7 +2,8 @@
 # report.html (docs/report.md) of a run and of a sweep, opened by headless Chromium from a file
 # URL with no network: no script or console error, a non-blank WebGL view, the numbers equal to
 # report.json (the --properties table too, with its nodal column, and youngs_modulus.png and the
-# sweep's properties_chart.png on the pages); the sweep's gallery.png is a valid picture. The
+# sweep's properties_chart.png on the pages); the sweep's gallery.png is a valid picture; the
+# page `cmcsurf report` remakes from the folder is the run's own, byte for byte. The
 # browser checks are skipped (exit 77) without Chromium (scripts/test.sh installs Debian's
 # chromium) or the page's bundled script (a build without npm or with -DCMCSURF_WEB_VIEWER=OFF).
 set -eu
@@ -38,10 +39,15 @@ assert var > 100 and coloured > 0.03, (var, coloured)
 assert json.load(open(f"{d}/sweep.json"))["gallery_seconds"] > 0
 print("report_page: gallery.png passed")
 PY
-# cmcsurf report rewrites the page from the folder alone.
-rm "$work/g/report.html"
+# cmcsurf report rewrites the page from the folder alone, byte for byte the page the run made
+# from its data in memory, but for the row of write_seconds, which report.json gains after the
+# page is written.
+mv "$work/g/report.html" "$work/run_page.html"
 "$bin" report --quiet "$work/g"
 [ -s "$work/g/report.html" ] || { echo "FAIL: report wrote no report.html"; exit 1; }
+grep -v 'data-key="write_seconds"' "$work/g/report.html" > "$work/remade_page.html"
+cmp "$work/run_page.html" "$work/remade_page.html" ||
+  { echo "FAIL: the run's page differs from the one remade from its folder"; exit 1; }
 if [ -z "$chromium" ]; then
   echo "report_page: browser checks skipped (no chromium: apt-get install chromium)"
   exit 77

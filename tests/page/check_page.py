@@ -14,51 +14,31 @@ For a run page the numbers are compared with report.json beside report.html; for
 (rows data-member=NAME) with NAME/report.json.
 """
 import base64
-import html.parser
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from headless_page import (  # noqa: E402
+    StatusAndPaths, check_path_cells, load_page, shown_matches, view_stats)
 from png_check import read_png, region_stats  # noqa: E402
 
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
-         "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
-         "--disable-dev-shm-usage",
-         "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
-         "--v=0"]
-
-
-def chromium(exe, page, work, *extra, fragment=""):
-    profile = os.path.join(work, "profile")
-    url = "file://" + os.path.abspath(page) + fragment
-    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, url]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
-    return p.stdout, p.stderr
-
-
-class Cells(html.parser.HTMLParser):
-    """The status div and every td with data-key (with its row's data-member, if any)."""
+class Cells(StatusAndPaths):
+    """The status, the data-path cells, every td with data-key (with its row's data-member, if
+    any), the properties table's columns and the pictures."""
 
     def __init__(self):
         super().__init__()
-        self.status, self.cells, self.member, self._cell = None, [], None, None
-        self.paths, self.images, self.properties_columns, self._in_properties = [], {}, 0, False
-        self._path = None
+        self.cells, self.member, self._cell = [], None, None
+        self.images, self.properties_columns, self._in_properties = {}, 0, False
 
     def handle_starttag(self, tag, attrs):
+        super().handle_starttag(tag, attrs)
         a = dict(attrs)
-        if a.get("id") == "status":
-            self.status = a
         if tag == "tr":
             self.member = a.get("data-member")
         if tag == "td" and "data-key" in a:
             self._cell = [self.member, a["data-key"], a.get("data-value"), ""]
-        if tag == "td" and "data-path" in a:
-            self._path = [a["data-path"], a.get("data-value"), ""]
         if tag == "table":
             self._in_properties = a.get("id") == "properties"
         if tag == "th" and self._in_properties and self.properties_columns >= 0:
@@ -67,53 +47,25 @@ class Cells(html.parser.HTMLParser):
             self.images[a["alt"]] = a.get("src", "")
 
     def handle_data(self, data):
+        super().handle_data(data)
         if self._cell is not None:
             self._cell[3] += data
-        if self._path is not None:
-            self._path[2] += data
 
     def handle_endtag(self, tag):
+        super().handle_endtag(tag)
         if tag == "td" and self._cell is not None:
             self.cells.append(tuple(self._cell))
             self._cell = None
-        if tag == "td" and self._path is not None:
-            self.paths.append(tuple(self._path))
-            self._path = None
         if tag == "tr" and self._in_properties and self.properties_columns > 0:
             self.properties_columns = -self.properties_columns  # the header row is counted
         if tag == "table":
             self._in_properties = False
 
 
-def pointer(doc, path):
-    """The value at a JSON pointer (RFC 6901) in doc."""
-    for part in path.split("/")[1:]:
-        part = part.replace("~1", "/").replace("~0", "~")
-        doc = doc[int(part)] if isinstance(doc, list) else doc[part]
-    return doc
-
-
-def shown_matches(text, want):
-    """The cell's text shows want to its printed digits (a trailing % is a percentage)."""
-    shown = text.split("±")[0].strip().rstrip("%")
-    scale = 100.0 if text.strip().endswith("%") else 1.0
-    digits = shown.lstrip("+-").split("e")[0].split(".")
-    ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-    if "e" in shown:
-        ulp *= 10.0 ** int(shown.split("e")[1])
-    return abs(float(shown) - scale * float(want)) <= 0.51 * ulp
-
-
 def main():
     exe, page, work = sys.argv[1:4]
     folder = os.path.dirname(os.path.abspath(page))
-    dom, log = chromium(exe, page, work, "--dump-dom")
-    assert "Uncaught" not in log, [l for l in log.splitlines() if "Uncaught" in l]
-    parsed = Cells()
-    parsed.feed(dom)
-    status = parsed.status
-    assert status is not None, "no #status in the page"
-    assert status.get("data-status") == "ok", f"page status: {status}"
+    parsed = load_page(exe, page, work, Cells())
     # Numbers: every cell with a data-value equals report.json's value exactly, and its text
     # shows the same number to the printed digits.
     reports = {}
@@ -127,25 +79,14 @@ def main():
             continue
         want = report[key]
         assert float(value) == float(want), (member, key, value, want)
-        shown = text.split("±")[0].strip().rstrip("%")
-        scale = 100.0 if text.strip().endswith("%") else 1.0
-        digits = shown.lstrip("+-").split(".")
-        ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-        assert abs(float(shown) - scale * float(want)) <= 0.51 * ulp, (key, text, want)
+        assert shown_matches(text, want), (key, text, want)
         checked += 1
     assert checked >= 5, f"only {checked} numbers on the page"
     # The properties table: every number equals report.json's at its pointer.
     run_report = json.load(open(os.path.join(folder, "report.json"))) \
         if os.path.exists(os.path.join(folder, "report.json")) else {}
     if "properties" in run_report:
-        numbers = 0
-        for path, value, text in parsed.paths:
-            if value is None:
-                continue
-            want = pointer(run_report, path)
-            assert float(value) == float(want), (path, value, want)
-            assert shown_matches(text, want), (path, text, want)
-            numbers += 1
+        numbers = check_path_cells(parsed.paths, run_report)
         solids = run_report["properties"]
         columns = 1 + ("nodal" in solids) + ("nodal_offset" in solids)
         assert -parsed.properties_columns == columns + 1, (parsed.properties_columns, columns)
@@ -166,15 +107,7 @@ def main():
         var, _ = region_stats(rows, 0, 0, w, h)
         assert w > 200 and h > 200 and var > 50, (alt, w, h, var)
     # The 3D view is drawn: a screenshot's canvas box is not blank.
-    shot = os.path.join(work, "shot.png")
-    chromium(exe, page, work, f"--screenshot={shot}")
-    x0, y0, x1, y1 = (int(v) for v in status["data-canvas"].split(","))
-    w, h, rows = read_png(shot)
-    x1, y1 = min(x1, w), min(y1, h)
-    assert x1 - x0 > 100 and y1 - y0 > 100, (x0, y0, x1, y1, w, h)
-    var, coloured = region_stats(rows, x0 + 2, y0 + 2, x1 - 2, y1 - 2)
-    assert var > 50 and coloured > 0.05, \
-        f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
+    var, coloured = view_stats(exe, page, work, parsed.status)
     # The other views (nodal twin or another member, 2^3 and 3^3 tiles) from the address.
     members = [m for m, _, _, _ in parsed.cells if m]
     if members:
@@ -182,11 +115,7 @@ def main():
     else:
         views = [(f"#nodal&tiles={t}", f"nodal,{t}") for t in (2, 3)] + [("#tiles=3", "relaxed,3")]
     for fragment, shown in views:
-        dom, log = chromium(exe, page, work, "--dump-dom", fragment=fragment)
-        view = Cells()
-        view.feed(dom)
-        assert "Uncaught" not in log and view.status.get("data-status") == "ok", \
-            (fragment, view.status)
+        view = load_page(exe, page, work, Cells(), fragment=fragment)
         assert view.status.get("data-shown") == shown, (fragment, view.status)
     names = ", ".join(f for f, _ in views)
     print(f"check_page: {os.path.basename(folder)}: status ok, {checked} numbers equal "

@@ -7,106 +7,42 @@ FILE.png is a picture that is not blank.
 
 usage: check_part_page.py CHROMIUM FILE.html WORKDIR
 """
-import html.parser
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from headless_page import (  # noqa: E402
+    StatusAndPaths, check_path_cells, load_page, view_stats)
 from png_check import read_png, region_stats  # noqa: E402
 
-# As check_page.py (a run's page).
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", "--host-resolver-rules=MAP * ~NOTFOUND",
-         "--no-first-run", "--disable-extensions", "--mute-audio", "--hide-scrollbars",
-         "--disable-dev-shm-usage",
-         "--window-size=1200,1000", "--virtual-time-budget=15000", "--enable-logging=stderr",
-         "--v=0"]
+class Page(StatusAndPaths):
+    """The status, the data-path cells and the svg charts."""
 
-
-def chromium(exe, page, work, *extra, fragment=""):
-    profile = os.path.join(work, "profile")
-    url = "file://" + os.path.abspath(page) + fragment
-    cmd = [exe, *FLAGS, f"--user-data-dir={profile}", *extra, url]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0, f"chromium exited {p.returncode}: {p.stderr[-2000:]}"
-    return p.stdout, p.stderr
-
-
-class Page(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
-        self.status, self.paths, self._path, self.svgs = None, [], None, []
+        self.svgs = []
 
     def handle_starttag(self, tag, attrs):
-        a = dict(attrs)
-        if a.get("id") == "status":
-            self.status = a
-        if tag == "td" and "data-path" in a:
-            self._path = [a["data-path"], a.get("data-value"), ""]
+        super().handle_starttag(tag, attrs)
         if tag == "svg":
-            self.svgs.append(a)
-
-    def handle_data(self, data):
-        if self._path is not None:
-            self._path[2] += data
-
-    def handle_endtag(self, tag):
-        if tag == "td" and self._path is not None:
-            self.paths.append(tuple(self._path))
-            self._path = None
-
-
-def pointer(doc, path):
-    for part in path.split("/")[1:]:
-        part = part.replace("~1", "/").replace("~0", "~")
-        doc = doc[int(part)] if isinstance(doc, list) else doc[part]
-    return doc
-
-
-def shown_matches(text, want):
-    shown = text.split("±")[0].strip().rstrip("%")
-    digits = shown.lstrip("+-").split("e")[0].split(".")
-    ulp = 10.0 ** -len(digits[1]) if len(digits) > 1 else 1.0
-    if "e" in shown:
-        ulp *= 10.0 ** int(shown.split("e")[1])
-    return abs(float(shown) - float(want)) <= 0.51 * ulp
+            self.svgs.append(dict(attrs))
 
 
 def main():
     exe, page, work = sys.argv[1:4]
     part = page[:-len(".html")]
     report = json.load(open(part + ".json"))
-    dom, log = chromium(exe, page, work, "--dump-dom")
-    assert "Uncaught" not in log, [line for line in log.splitlines() if "Uncaught" in line]
-    parsed = Page()
-    parsed.feed(dom)
-    assert parsed.status is not None, "no #status in the page"
-    assert parsed.status.get("data-status") == "ok", f"page status: {parsed.status}"
+    parsed = load_page(exe, page, work, Page())
     assert parsed.status.get("data-shown") == "part", parsed.status
-    numbers = 0
-    for path, value, text in parsed.paths:
-        if value is None:
-            continue
-        want = pointer(report, path)
-        assert float(value) == float(want), (path, value, want)
-        assert shown_matches(text.replace("−", "-"), want), (path, text, want)
-        numbers += 1
+    numbers = check_path_cells(parsed.paths, report)
     assert numbers >= 8, f"only {numbers} numbers on the page"
     slices = [s for s in parsed.svgs if "data-segments" in s]
     assert len(slices) == 2 and all(int(s["data-segments"]) > 50 for s in slices), slices
     charts = [s.get("data-title", "") for s in parsed.svgs if "data-title" in s]
     assert any(t.startswith("wall") for t in charts), charts
     assert any(t.startswith("pore") for t in charts), charts
-    shot = os.path.join(work, "shot.png")
-    chromium(exe, page, work, f"--screenshot={shot}")
-    x0, y0, x1, y1 = (int(v) for v in parsed.status["data-canvas"].split(","))
-    w, h, rows = read_png(shot)
-    x1, y1 = min(x1, w), min(y1, h)
-    var, coloured = region_stats(rows, x0 + 2, y0 + 2, x1 - 2, y1 - 2)
-    assert var > 50 and coloured > 0.05, \
-        f"blank 3D view: variance {var:.1f}, coloured {coloured:.3f}"
+    var, coloured = view_stats(exe, page, work, parsed.status)
     w, h, rows = read_png(part + ".png")
     pvar, pcol = region_stats(rows, 0, 0, w, h)
     assert w >= 400 and h >= 400 and pvar > 50 and pcol > 0.03, (w, h, pvar, pcol)
