@@ -4,6 +4,7 @@
 // command line and prints the summary.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -268,6 +269,19 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
     else
       std::cerr << fmt::format("not decimated ({} triangles): {}\n",
                                dm["triangles_before"].get<long>(), dm["note"].get<std::string>());
+  }
+  // Where the time went (FILE.json's seconds, wall clock): the stages of a second or more,
+  // longest first, so that the cost of the defaults (decimation, page, part measures) shows.
+  std::vector<std::pair<double, std::string>> stages;
+  for (const auto& [key, value] : r["seconds"].items())
+    if (value.is_number() && value.get<double>() >= 1.0)
+      stages.emplace_back(value.get<double>(), key);
+  std::sort(stages.rbegin(), stages.rend());
+  if (!stages.empty()) {
+    std::string line = "seconds (wall):";
+    for (const auto& [seconds, key] : stages) line += fmt::format(" {} {:.1f},", key, seconds);
+    line.pop_back();
+    std::cerr << line << "\n";
   }
   std::cerr << fmt::format("wrote {} ({} bytes) and {}.json\n", run.out.string(),
                            std::filesystem::file_size(run.out), run.out.string());
