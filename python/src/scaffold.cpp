@@ -79,20 +79,22 @@ class Interaction {
     };
   }
 
+  // body() without the GIL; raises what stopped it, or what `progress` raised after the last
+  // poll.
   template <class F>
   auto call(F&& body) {
-    std::optional<decltype(body())> out;
     try {
-      py::gil_scoped_release release;
-      out.emplace(body());
+      auto out = [&] {
+        py::gil_scoped_release release;
+        return body();
+      }();
+      if (pending_) throw *pending_;
+      return out;
     } catch (const ScaffoldInterrupted&) {
-    }
-    if (pending_) throw *pending_;
-    if (!out) {  // stopped without a Python error: report it as the interruption it was
-      PyErr_SetNone(PyExc_KeyboardInterrupt);
+      if (pending_) throw *pending_;
+      PyErr_SetNone(PyExc_KeyboardInterrupt);  // a stop without a Python error is one
       throw py::error_already_set();
     }
-    return std::move(*out);
   }
 
  private:

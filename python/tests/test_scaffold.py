@@ -93,6 +93,19 @@ def test_scaffold_stops_on_ctrl_c(tmp_path):
     assert not list((tmp_path / "cache").glob("*/member.json"))  # no finished cache entry
 
 
+def test_scaffold_progress_exception_stops_the_call(tmp_path):
+    """An exception raised by `progress` stops the call at the next poll and is raised again,
+    as Ctrl-C is (here at the member's first time step)."""
+    def stop(line):
+        raise RuntimeError("stop here")
+    start = time.monotonic()
+    with pytest.raises(RuntimeError, match="stop here"):
+        cmcsurf.scaffold(tmp_path / "part.stl", cache=str(tmp_path / "cache"), porosity=0.7,
+                         paper=True, grid=64, size=2, threads=1, no_page=True, progress=stop)
+    assert time.monotonic() - start < 20
+    assert not (tmp_path / "part.stl").exists()
+
+
 def test_scaffold_signature_is_the_cli_table():
     import inspect
     params = inspect.signature(cmcsurf.scaffold).parameters
