@@ -4,13 +4,9 @@
 # part"): --cell-size A:B --axis z blends one member at two cell sizes into one connected,
 # percolating network at its porosity; --porosity A:B with --shape grades a network inside a
 # shape; morphometry.part measures the part itself beside its cells' keys.
-set -u
-bin="$1"
+source "$(dirname "$0")/usage.bash" "$1"  # bin, work (removed on exit), fail
 here=$(cd "$(dirname "$0")" && pwd)
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
 common=(--paper --surface G --porosity 0.7 --grid 16 --units mm --cache "$work/cache" --quiet
         --tolerance 0 --no-page)
 

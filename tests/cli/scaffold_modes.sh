@@ -3,13 +3,9 @@
 # --shape with and without --skin, a curved --shape (a sphere) with --compare-nodal; and
 # graded's --help example, whose members' measured fractions straddle their targets
 # (accepted within the volume tolerance).
-set -u
-bin="$1"
+source "$(dirname "$0")/usage.bash" "$1"  # bin, work (removed on exit), fail
 here=$(cd "$(dirname "$0")" && pwd)
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
 check() { if ! "$@"; then echo "FAIL: $*"; fail=1; fi; }
 json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3"; fail=1; }; }
 common=(--grid 16 --cell-size 2 --units mm --cache "$work/cache" --quiet)
