@@ -4,6 +4,7 @@
 // command line and prints the summary.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -48,6 +49,14 @@ DecimateProgress decimate_progress(const ScaffoldCommand& cmd) {
       std::cerr << fmt::format("  measuring the distance of the {} triangles to the part "
                                "({:.0f} s)\n", triangles, now);
   };
+}
+
+// How a ramp runs: "along z", or "from the surface to 2 mm deep".
+std::string ramp_words(const nlohmann::json& graded) {
+  if (graded.value("by", "axis") == "surface")
+    return fmt::format("from the surface to {:g} {} deep", graded["depth"].get<double>(),
+                       graded["units"].get<std::string>());
+  return "along " + graded["axis"].get<std::string>();
 }
 
 // What a design solved and from which target, and each target recomputed on the part.
@@ -111,8 +120,8 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
       o.surface, o.solid, size[0], size[1], size[2], units,
       r["porosity"].get<double>(),
       r.contains("graded")
-          ? fmt::format("{:.6g}:{:.6g} along {}, mean {:.6g}", from, to,
-                        r["graded"]["axis"].get<std::string>(), 0.5 * (from + to))
+          ? fmt::format("{:.6g}:{:.6g} {}, mean {:.6g}", from, to, ramp_words(r["graded"]),
+                        r["graded"].value("porosity_mean", 0.5 * (from + to)))
           : fmt::format("{:.6g}", design["porosity"].get<double>()),
       r["porosity_error"].get<double>(),
       sheet ? fmt::format(", wall thickness {:.4g} {}", r["sheet"]["thickness"].get<double>(),
@@ -158,7 +167,17 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
                           (*it)["pore_size"]["min"].get<double>());
     std::cerr << line << "\n";
   }
-  if (r.contains("graded")) {
+  if (r.contains("graded") && r["graded"].value("by", "axis") == "surface") {
+    std::string line = fmt::format("porosity by depth ({}), target | lattice nodes:", units);
+    for (const auto& b : r["graded"]["profile"]) {
+      const std::string to =
+          b["depth_to"].is_null() ? "core" : fmt::format("{:g}", b["depth_to"].get<double>());
+      line += fmt::format(" {:g}-{}: {:.3f} | {:.3f};", b["depth_from"].get<double>(), to,
+                          b["porosity_target"].get<double>(), b["porosity_nodes"].get<double>());
+    }
+    line.pop_back();
+    std::cerr << line << "\n";
+  } else if (r.contains("graded")) {
     std::string line = "porosity per cell along " + r["graded"]["axis"].get<std::string>() + ":";
     for (const auto& b : r["graded"]["profile"])
       line += fmt::format(" {:.3f}", b["porosity_nodes"].get<double>());
@@ -250,6 +269,19 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
     else
       std::cerr << fmt::format("not decimated ({} triangles): {}\n",
                                dm["triangles_before"].get<long>(), dm["note"].get<std::string>());
+  }
+  // Where the time went (FILE.json's seconds, wall clock): the stages of a second or more,
+  // longest first, so that the cost of the defaults (decimation, page, part measures) shows.
+  std::vector<std::pair<double, std::string>> stages;
+  for (const auto& [key, value] : r["seconds"].items())
+    if (value.is_number() && value.get<double>() >= 1.0)
+      stages.emplace_back(value.get<double>(), key);
+  std::sort(stages.rbegin(), stages.rend());
+  if (!stages.empty()) {
+    std::string line = "seconds (wall):";
+    for (const auto& [seconds, key] : stages) line += fmt::format(" {} {:.1f},", key, seconds);
+    line.pop_back();
+    std::cerr << line << "\n";
   }
   std::cerr << fmt::format("wrote {} ({} bytes) and {}.json\n", run.out.string(),
                            std::filesystem::file_size(run.out), run.out.string());

@@ -101,7 +101,9 @@ def main():
     d = report["design"]
     if "graded" in report:
         g = report["graded"]
-        target = f"{g['porosity_from']} to {g['porosity_to']} along {g['axis']}"
+        where = (f"from the surface to {g['depth']} {units} deep" if g.get("by") == "surface"
+                 else f"along {g['axis']}")
+        target = f"{g['porosity_from']} to {g['porosity_to']} {where}"
     else:
         target = d["porosity"]
     fig.suptitle(f"{d['solid']} scaffold: porosity {report['porosity']:.4f} "

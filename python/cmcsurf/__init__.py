@@ -666,10 +666,12 @@ def scaffold(*args: Any, **kwargs: Any) -> Dict[str, Any]:
     keywords too. Writes ``out`` (the mesh), ``out.json``, and unless ``no_page`` ``out.html``
     and ``out.png``; returns the dict of ``out.json`` (``porosity``, ``morphometry``,
     ``design``, ``properties``, ...; docs/scaffolds.md), the same numbers the command line
-    writes. ``porosity`` and the targets take a number or a ramp ``(A, B)`` along ``axis``,
+    writes. ``porosity`` and the targets take a number or a ramp ``(A, B)`` along ``axis``
+    (``porosity`` also by depth in a ``shape``: ``grade_by="surface", grade_depth=D``),
     ``size`` a number or ``(A, B, C)``, ``material`` ``(E_GPa, nu)``. Members are cached as the
     command line caches them (``cache``). Warnings are issued as ``UserWarning``; ``progress``
-    gets each line the command line prints while it works. A bad option raises ValueError
+    gets each line the command line prints while it works; the call releases the GIL and
+    Ctrl-C stops it (KeyboardInterrupt, nothing written). A bad option raises ValueError
     (TypeError for a wrong type) with the command line's message; a part that cannot be made
     (a target out of reach, closed cells) raises RuntimeError and writes nothing.
     """

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -54,10 +55,58 @@ class Threads {
   int before_;
 };
 
+// A call without the GIL, as module.cpp's run(): `progress` and the signal check take it back;
+// a KeyboardInterrupt (Ctrl-C) or an exception raised by `progress` waits in `pending` while
+// the library unwinds (ScaffoldContext::stop, then ScaffoldInterrupted), and is raised again.
+class Interaction {
+ public:
+  explicit Interaction(py::object progress) : progress_(std::move(progress)) {}
+
+  void attach(ScaffoldContext& ctx) {
+    if (!progress_.is_none())
+      ctx.say = [this](const std::string& line) {
+        py::gil_scoped_acquire gil;
+        try {
+          progress_(line);
+        } catch (py::error_already_set& e) {
+          pending_ = e;
+        }
+      };
+    ctx.stop = [this] {
+      py::gil_scoped_acquire gil;
+      if (!pending_ && PyErr_CheckSignals() != 0) pending_ = py::error_already_set();
+      return pending_.has_value();
+    };
+  }
+
+  // body() without the GIL; raises what stopped it, or what `progress` raised after the last
+  // poll.
+  template <class F>
+  auto call(F&& body) {
+    try {
+      auto out = [&] {
+        py::gil_scoped_release release;
+        return body();
+      }();
+      if (pending_) throw *pending_;
+      return out;
+    } catch (const ScaffoldInterrupted&) {
+      if (pending_) throw *pending_;
+      PyErr_SetNone(PyExc_KeyboardInterrupt);  // a stop without a Python error is one
+      throw py::error_already_set();
+    }
+  }
+
+ private:
+  py::object progress_;
+  std::optional<py::error_already_set> pending_;
+};
+
 // options: the scaffold options given (key -> str, float, int or bool); run_options: the run
-// options given (None: the mode chooses). Returns (FILE.json, warnings).
+// options given (None: the mode chooses); progress: None or a callable taking each line.
+// Returns (FILE.json, warnings).
 py::tuple scaffold(const py::dict& options, const py::dict& run_options, int threads,
-                   const std::function<void(const std::string&)>& progress) {
+                   const py::object& progress) {
   ScaffoldOptions o;
   const nlohmann::json given = to_json(options);
   for (const ScaffoldOption& option : scaffold_option_table())
@@ -71,11 +120,15 @@ py::tuple scaffold(const py::dict& options, const py::dict& run_options, int thr
   const nlohmann::json run_given = to_json(run_options);  // alive while iterated
   for (const auto& [key, value] : run_given.items())
     set_run_option_json(params, choices, key, value);
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+    throw py::type_error(fmt::format("progress: got {}; accepted: None or a callable taking "
+                                     "one line (str)", std::string(py::repr(progress))));
   Threads scope(threads);
   ScaffoldContext ctx;
   ctx.threads = scope.count();
-  if (progress) ctx.say = progress;
-  const ScaffoldRun run = make_scaffold(o, params, choices, ctx);
+  Interaction interaction(progress);
+  interaction.attach(ctx);
+  const ScaffoldRun run = interaction.call([&] { return make_scaffold(o, params, choices, ctx); });
   return py::make_tuple(to_python(run.report), py::cast(run.warnings));
 }
 

@@ -2,6 +2,10 @@
 FILE.json numbers for the same options; morphometry() measures one cell as scaffold does."""
 import json
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -65,6 +69,41 @@ def test_scaffold_refuses_as_the_cli(tmp_path, cache):
     with pytest.raises(TypeError, match="unexpected keyword"):
         cmcsurf.scaffold(tmp_path / "x.stl", porosity=0.7, cell_sise=2)
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_scaffold_stops_on_ctrl_c(tmp_path):
+    """A real SIGINT half a second into a member's solve (64^3, paper mode: tens of seconds)
+    stops the call at its next time step: the solve runs without the GIL and polls Python's
+    signal handlers, so KeyboardInterrupt arrives and nothing is written or cached."""
+    lines = []
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            cmcsurf.scaffold(tmp_path / "part.stl", cache=str(tmp_path / "cache"), porosity=0.7,
+                             paper=True, grid=64, size=2, threads=1, no_page=True,
+                             progress=lines.append)
+    finally:
+        timer.cancel()
+    # A 64^3 paper-mode step takes well under a second; 20 s bounds a loaded shared machine.
+    assert time.monotonic() - start < 20
+    assert any("computing the member" in line for line in lines), lines
+    assert not (tmp_path / "part.stl").exists()
+    assert not list((tmp_path / "cache").glob("*/member.json"))  # no finished cache entry
+
+
+def test_scaffold_progress_exception_stops_the_call(tmp_path):
+    """An exception raised by `progress` stops the call at the next poll and is raised again,
+    as Ctrl-C is (here at the member's first time step)."""
+    def stop(line):
+        raise RuntimeError("stop here")
+    start = time.monotonic()
+    with pytest.raises(RuntimeError, match="stop here"):
+        cmcsurf.scaffold(tmp_path / "part.stl", cache=str(tmp_path / "cache"), porosity=0.7,
+                         paper=True, grid=64, size=2, threads=1, no_page=True, progress=stop)
+    assert time.monotonic() - start < 20
+    assert not (tmp_path / "part.stl").exists()
 
 
 def test_scaffold_signature_is_the_cli_table():

@@ -63,11 +63,21 @@ const std::vector<ScaffoldOption>& scaffold_option_table() {
        &O::surface},
       {"porosity", "--porosity",
        "Target porosity of the part: 1 - solid / box volume, in (0, 1); A:B ramps it linearly "
-       "from A to B along --axis (a network's members are blended, a sheet's wall thickness "
-       "graded); required unless --target-modulus or --target-permeability solves it",
+       "from A to B along --axis or, in a --shape, by depth (--grade-by surface; a network's "
+       "members are blended, a sheet's wall thickness graded); required unless "
+       "--target-modulus or --target-permeability solves it",
        &O::porosity},
       {"axis", "--axis", "Axis of a ramp (--porosity, --cell-size, a target A:B): x, y or z",
        &O::axis},
+      {"grade_by", "--grade-by",
+       "How --porosity A:B runs: axis (A at the low end of --axis, B at the high end) or "
+       "surface (with --shape: A at the shape's surface, inside its --skin, B at --grade-depth "
+       "below it and deeper; a network or a sheet)",
+       &O::grade_by},
+      {"grade_depth", "--grade-depth",
+       "With --grade-by surface: the depth in --units over which the porosity goes from A to "
+       "B, > 0 and at most half the shape's smallest extent (default: one --cell-size)",
+       &O::grade_depth},
       {"graded_members", "--graded-members",
        "Members a ramp blends (default: one per 0.1 of porosity, at least 2)",
        &O::graded_members},
@@ -274,7 +284,12 @@ nlohmann::json scaffold_option_schema() {
 namespace {
 
 // Lines for the user, when someone listens.
+void poll(const ScaffoldContext& ctx) {
+  if (ctx.stop && ctx.stop()) throw ScaffoldInterrupted("scaffold: interrupted");
+}
+
 void say(const ScaffoldContext& ctx, const std::string& line) {
+  poll(ctx);
   if (ctx.say) ctx.say(line);
 }
 
@@ -467,9 +482,17 @@ Field member_field(const ScaffoldContext& ctx, const RunParams& p,
   }
   say(ctx, fmt::format("computing the member: surface {}, solid fraction {:g}, grid {} (cached "
                        "in {})", p.surface, p.volume_fraction, p.grid, dir.string()));
-  RunResult r = run_cmc(p, RunContext([&](const StepRecord& s) {
+  RunContext run_context([&](const StepRecord& s) {
     if (ctx.step) ctx.step(s);
-  }));
+  });
+  if (ctx.stop)
+    run_context.control = [&] { return ctx.stop() ? RunControl::kStop : RunControl::kContinue; };
+  RunResult r;
+  try {
+    r = run_cmc(p, run_context);
+  } catch (const RunInterrupted&) {
+    throw ScaffoldInterrupted("scaffold: interrupted while computing the member");
+  }
   if (ctx.steps_done) ctx.steps_done();
   const nlohmann::json run = run_report(p, r, ctx.threads);
   ensure_directory(dir);
@@ -556,16 +579,13 @@ std::optional<Targets> plan_targets(const ScaffoldOptions& o, const ScaffoldDesi
 }
 
 // The shape to fill (--shape, --skin), read and checked; sets d.size to its extent.
-std::optional<ShapeFill> read_shape(const ScaffoldOptions& o, bool ramp, ScaffoldDesign& d) {
+std::optional<ShapeFill> read_shape(const ScaffoldOptions& o, ScaffoldDesign& d) {
   if (o.shape.empty()) {
     if (o.skin != 0.0) throw OptionError("--skin: only with --shape");
     return std::nullopt;
   }
   if (o.given.count("size") > 0)
     throw OptionError("--size: not with --shape (the part is the shape's own bounding box)");
-  if (ramp && d.solid == SolidKind::kSheet)
-    throw OptionError("--shape: a sheet takes one --porosity (a graded fill of a shape is done "
-                      "for a network)");
   try {
     require_regular_file(o.shape, "--shape");  // a FIFO would block the open
   } catch (const std::runtime_error& e) {
@@ -593,6 +613,38 @@ std::optional<ShapeFill> read_shape(const ScaffoldOptions& o, bool ramp, Scaffol
         "--skin: got {}; accepted: 0 .. half the shape's smallest extent, in --units", o.skin));
   shape->skin = o.skin;
   return shape;
+}
+
+// --grade-by and --grade-depth against the ramp and the shape; sets the ramp's depth.
+void check_grading(const ScaffoldOptions& o, std::optional<PorosityRamp>& ramp,
+                   const std::optional<ShapeFill>& shape, const ScaffoldDesign& d) {
+  if (o.grade_by != "axis" && o.grade_by != "surface")
+    throw OptionError(fmt::format("--grade-by: got '{}'; accepted: axis|surface", o.grade_by));
+  if (o.grade_by == "axis") {
+    if (o.given.count("grade_depth") > 0)
+      throw OptionError("--grade-depth: only with --grade-by surface");
+    return;
+  }
+  // By depth: a porosity ramp in a shape; what grades along an axis cannot run by depth.
+  const char* other = !shape                                   ? "without --shape"
+                      : !ramp                                  ? "without --porosity A:B"
+                      : o.given.count("axis") > 0              ? "with --axis"
+                      : o.cell_size.find(':') != std::string::npos ? "with --cell-size A:B"
+                      : !o.target_modulus.empty() || !o.target_permeability.empty()
+                          ? "with --target-modulus or --target-permeability"
+                          : nullptr;
+  if (other != nullptr)
+    throw OptionError(fmt::format("--grade-by surface: not {} (accepted: --shape with "
+                                  "--porosity A:B, A at its surface and B at --grade-depth)",
+                                  other));
+  const double smallest = *std::min_element(d.size.begin(), d.size.end());
+  const double depth = o.grade_depth == 0.0 ? d.cell_size : o.grade_depth;
+  if (!(depth > 0.0 && depth <= 0.5 * smallest))
+    throw OptionError(fmt::format("--grade-depth: got {}; accepted: 0 < D <= {:g} (half the "
+                                  "shape's smallest extent) in --units; 0: one --cell-size",
+                                  depth, 0.5 * smallest));
+  ramp->by_surface = true;
+  ramp->depth = depth;
 }
 
 }  // namespace
@@ -657,7 +709,8 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
                                     "for a network at one --porosity in a box)", other));
   }
   d.size = parse_size(o.size);
-  std::optional<ShapeFill> shape = read_shape(o, bool(ramp), d);
+  std::optional<ShapeFill> shape = read_shape(o, d);
+  check_grading(o, ramp, shape, d);
   if (!is_mesh_unit(o.units))
     throw OptionError(fmt::format("--units: got '{}'; accepted: {}", o.units, mesh_units_list()));
   d.units = o.units;
@@ -781,14 +834,20 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
   }
   const double member_seconds = seconds_since(t0);
   ScaffoldPart part;
+  // The decimation's progress also polls for a stop (it is the longest stage after the solve).
+  const DecimateProgress decimate = [&ctx](DecimateStage stage, int attempt, std::size_t left) {
+    poll(ctx);
+    if (ctx.decimate) ctx.decimate(stage, attempt, left);
+  };
+  poll(ctx);
   try {
     // A graded sheet grades the wall around the one balanced member.
     const ShapeFill* fill = shape ? &*shape : nullptr;
-    part = cell_ramp ? design_graded_cell_scaffold(phi, d, *cell_ramp, ctx.decimate)
-           : !ramp   ? design_scaffold(phi, d, fill, ctx.decimate)
-           : d.solid == SolidKind::kSheet ? design_graded_sheet(phi, d, *ramp, ctx.decimate)
-                                          : design_graded_scaffold(members, d, *ramp,
-                                                                   ctx.decimate, fill);
+    part = cell_ramp ? design_graded_cell_scaffold(phi, d, *cell_ramp, decimate)
+           : !ramp   ? design_scaffold(phi, d, fill, decimate)
+           : d.solid == SolidKind::kSheet
+               ? design_graded_sheet(phi, d, *ramp, decimate, fill)
+               : design_graded_scaffold(members, d, *ramp, decimate, fill);
   } catch (const std::invalid_argument& e) {
     throw OptionError(fmt::format("--porosity: {}", e.what()));
   }
@@ -838,7 +897,10 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
   plan.meta.description = fmt::format(
       "surface={}; solid={}; porosity={:.4f} (target {}); cell_size={} {}; size={}x{}x{} {}{}",
       o.surface, o.solid, r["porosity"].get<double>(),
-      ramp ? fmt::format("{:.6g}:{:.6g} along {}", ramp->from, ramp->to, o.axis)
+      ramp ? fmt::format("{:.6g}:{:.6g} {}", ramp->from, ramp->to,
+                         ramp->by_surface
+                             ? fmt::format("from the surface over {:g} {}", ramp->depth, d.units)
+                             : "along " + o.axis)
            : fmt::format("{:.6g}", d.porosity),
       cell_ramp ? fmt::format("{:g}:{:g} along {}", cell_ramp->from, cell_ramp->to, o.axis)
                 : fmt::format("{:g}", d.cell_size),
@@ -849,6 +911,7 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
   nlohmann::json members_about = {{"members", member}, {"seconds", member_seconds}};
   if (!ramp || d.solid == SolidKind::kSheet)
     members_about = member, members_about["seconds"] = member_seconds;
+  poll(ctx);
   std::optional<PartPageMeasures> page;
   if (!o.no_page) {
     page = measure_part_page(part.mesh);

@@ -29,6 +29,8 @@ struct ScaffoldOptions {
   std::string surface = "G";
   std::string porosity;   // P, or A:B ramped along `axis`
   std::string axis = "z";
+  std::string grade_by = "axis";  // axis, or surface: a --shape's depth (grade_depth)
+  double grade_depth = 0.0;       // units; 0: one cell size
   int graded_members = 0;  // 0: one per 0.1 of porosity, at least 2
   std::string solid = "network";
   std::string cell_size = "2";  // S, or A:B graded along `axis` (a network)
@@ -85,7 +87,16 @@ struct ScaffoldContext {
   std::function<void(const StepRecord&)> step;   // the members' time steps
   std::function<void()> steps_done;              // after each member's solve
   DecimateProgress decimate;                     // the decimation's
+  // Polled before each time step of a member, with each line said and during the decimation
+  // (Python's Ctrl-C): true stops the call with ScaffoldInterrupted, nothing written.
+  std::function<bool()> stop;
   int threads = 1;                               // in use, for FILE.json
+};
+
+// ScaffoldContext::stop said so: the call ended early and wrote nothing (a member being
+// computed is not cached).
+struct ScaffoldInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 // What make_scaffold wrote and measured; const once returned.

@@ -254,6 +254,46 @@ TEST(Part, ShapeFillHoldsThePorosityOverTheShape) {
   }
 }
 
+// A sheet graded by depth in a 3 x 3 x 3 cell block (nodal G at 16^3): porosity 0.5 at the
+// surface to 0.7 at one cell deep and below. One closed manifold piece whose porosity is the
+// ramp's mean over the block's nodes (a sheet's 1e-4, with the cut); the outer band and the
+// core within 0.03 of their targets (16^3 walls are 1.5-2.5 voxels; measured 0.008 at 32^3 in
+// cli.scaffold_graded_fill), the core more porous; the wall thicker at the surface. A ramp by
+// depth without a shape, or of no depth, is refused.
+TEST(Part, GradedSheetByDepthInAShape) {
+  ShapeFill shape;
+  shape.mesh = box_mesh({0, 0, 0}, {3, 3, 3});
+  ScaffoldDesign d;
+  d.solid = SolidKind::kSheet;
+  d.cell_size = 1.0;
+  d.morphometry = false;
+  PorosityRamp ramp;
+  ramp.from = 0.5;
+  ramp.to = 0.7;
+  ramp.by_surface = true;
+  ramp.depth = 1.0;
+  const Field phi = nodal("G", 16);
+  const ScaffoldPart part = design_graded_sheet(phi, d, ramp, {}, &shape);
+  expect_clean_solid(part.mesh);
+  const nlohmann::json& g = part.report["graded"];
+  EXPECT_EQ(g["by"], "surface");
+  EXPECT_NEAR(part.report["porosity"].get<double>(), g["porosity_mean"].get<double>(), 1e-3);
+  const nlohmann::json& bands = g["profile"];
+  ASSERT_EQ(bands.size(), 5u);
+  EXPECT_NEAR(bands[4]["porosity_target"].get<double>(), 0.7, 1e-9);
+  for (const auto* b : {&bands[0], &bands[4]})
+    EXPECT_NEAR((*b)["porosity_nodes"].get<double>(), (*b)["porosity_target"].get<double>(),
+                0.03)
+        << b->dump();
+  EXPECT_GT(bands[4]["porosity_nodes"].get<double>(),
+            bands[0]["porosity_nodes"].get<double>() + 0.1);
+  EXPECT_GT(part.report["sheet"]["thickness_from"].get<double>(),
+            1.3 * part.report["sheet"]["thickness_to"].get<double>());
+  EXPECT_THROW(design_graded_sheet(phi, d, ramp), std::invalid_argument);
+  ramp.depth = 0.0;
+  EXPECT_THROW(design_graded_sheet(phi, d, ramp, {}, &shape), std::invalid_argument);
+}
+
 // Two overlapping closed cubes in one STL (4^3 each, overlapping in 2^3) are their
 // union, 120 and not the 128 their triangles sum to: the porosity holds over the union, and
 // a skin follows only the union's surface (no wall along a face inside the other cube).

@@ -412,13 +412,15 @@ Vec3 shape_box(const ShapeFill& shape, const ScaffoldDesign& d, int n) {
 
 // Cuts a lattice sampled on shape_box to the shape (origin, clip, skin, the reference volume);
 // returns FILE.json's `shape`.
+// depth: the distance is also exact that far inside the skin (a fill graded by depth).
 nlohmann::json cut_to_shape(PartLattice& lat, const ShapeFill& shape_fill,
-                            const ScaffoldDesign& d, int n) {
+                            const ScaffoldDesign& d, int n, double depth = 0.0) {
   const ShapeFill* shape = &shape_fill;
   const MeshStats ss = analyze_mesh(shape->mesh);
   const double margin = 2.0 * d.cell_size / n;
   for (int c = 0; c < 3; ++c) lat.origin[c] = ss.min[c] - margin;
-  const std::vector<float> sdf = shape_distance(shape->mesh, lat, shape->skin + 4.0 * margin);
+  const std::vector<float> sdf =
+      shape_distance(shape->mesh, lat, shape->skin + 4.0 * margin + depth);
   // Distances into a's units (unit cells): the solid is also {sdf < 0}, and the skin
   // {-skin < sdf < 0} is solid whatever the lattice.
   const double k = 1.0 / d.cell_size;
@@ -451,6 +453,107 @@ nlohmann::json cut_to_shape(PartLattice& lat, const ShapeFill& shape_fill,
                       "lattice solid within the shape, plus the skin; volume: "
                       "volume_triangles (their signed sum), or the union's on the "
                       "lattice when shells may overlap"}};
+}
+
+// Each node's place on a porosity ramp, 0 (porosity `from`) .. 1 (`to`): the middle of its
+// layer along the axis, or its depth below the shape's surface past the skin over ramp.depth
+// (lat.clip in cells, exact that deep: cut_to_shape's depth); the skin and outside are 0.
+std::vector<float> ramp_place(const PartLattice& lat, const PorosityRamp& ramp,
+                              const ScaffoldDesign& d, double skin) {
+  std::vector<float> place(lat.count());
+  const int layers = lat.nodes[ramp.axis];
+  for (int k = 0; k < lat.nodes[2]; ++k)
+    for (int j = 0; j < lat.nodes[1]; ++j)
+      for (int i = 0; i < lat.nodes[0]; ++i) {
+        const std::size_t id = lat.index(i, j, k);
+        const int at[3] = {i, j, k};
+        place[id] = ramp.by_surface
+                        ? float(std::clamp((lat.clip[id] * d.cell_size - skin) / ramp.depth,
+                                           0.0, 1.0))
+                        : float((at[ramp.axis] + 0.5) / layers);
+      }
+  return place;
+}
+
+double ramp_porosity(const PorosityRamp& ramp, double place) {
+  return ramp.from + (ramp.to - ramp.from) * place;
+}
+
+// The ramp's mean porosity over the part: the box's middle value, or over the shape's nodes.
+double ramp_mean(const PartLattice& lat, const PorosityRamp& ramp,
+                 const std::vector<float>& place) {
+  if (lat.clip.empty()) return 0.5 * (ramp.from + ramp.to);
+  double sum = 0.0, count = 0.0;
+  for (std::size_t id = 0; id < lat.count(); ++id)
+    if (lat.clip[id] > 0) sum += ramp_porosity(ramp, place[id]), count += 1.0;
+  return count > 0 ? sum / count : 0.5 * (ramp.from + ramp.to);
+}
+
+// The porosity by depth below a shape's surface (past its skin): kDepthBands bands over
+// ramp.depth and the core beyond, each with its nodes' mean target and the fraction of them
+// outside the solid.
+constexpr int kDepthBands = 4;
+nlohmann::json depth_profile(const PartLattice& lat, double level, const PorosityRamp& ramp,
+                             const std::vector<float>& place, const ScaffoldDesign& d,
+                             double skin) {
+  std::array<double, kDepthBands + 1> solid{}, count{}, want{};
+  for (std::size_t id = 0; id < lat.count(); ++id) {
+    const double below = lat.clip[id] * d.cell_size - skin;
+    if (!(lat.clip[id] > 0) || below < 0) continue;  // outside, or in the skin
+    const int b = std::min(kDepthBands, int(below / ramp.depth * kDepthBands));
+    count[b] += 1.0;
+    want[b] += ramp_porosity(ramp, place[id]);
+    solid[b] += lat.value(id, level) > 0.0 && !lat.removed[id];
+  }
+  nlohmann::json profile = nlohmann::json::array();
+  for (int b = 0; b <= kDepthBands; ++b)
+    profile.push_back({{"depth_from", b * ramp.depth / kDepthBands},
+                       {"depth_to", b < kDepthBands ? nlohmann::json((b + 1) * ramp.depth /
+                                                                     kDepthBands)
+                                                    : nlohmann::json()},
+                       {"nodes", count[b]},
+                       {"porosity_target", count[b] > 0 ? want[b] / count[b] : NAN},
+                       {"porosity_nodes", count[b] > 0 ? 1.0 - solid[b] / count[b] : NAN}});
+  return profile;
+}
+
+// FILE.json's `graded` keys that say how the ramp runs.
+nlohmann::json ramp_json(const PorosityRamp& ramp, const ScaffoldDesign& d) {
+  nlohmann::json g = {{"porosity_from", ramp.from}, {"porosity_to", ramp.to}};
+  if (ramp.by_surface) {
+    g["by"] = "surface";
+    g["axis"] = nullptr;
+    g["depth"] = ramp.depth;
+    g["units"] = d.units;
+    g["profile_note"] = "by depth below the shape's surface (past the skin): four bands over "
+                        "`depth` and the core beyond (depth_to null), each the mean target and "
+                        "the fraction of its lattice nodes outside the solid";
+  } else {
+    g["by"] = "axis";
+    g["axis"] = std::string(1, "xyz"[ramp.axis]);
+    g["profile_note"] = "per cell along the axis: the target and the fraction of lattice nodes "
+                        "outside the solid";
+  }
+  return g;
+}
+
+void check_ramp_place(const PorosityRamp& ramp, const ShapeFill* shape) {
+  if (ramp.by_surface && shape == nullptr)
+    throw std::invalid_argument("a ramp by depth needs a shape (the depth below its surface)");
+  if (ramp.by_surface && !(ramp.depth > 0.0 && std::isfinite(ramp.depth)))
+    throw std::invalid_argument(fmt::format("the ramp's depth {} must be > 0", ramp.depth));
+}
+
+// `graded.profile`: per cell along the axis, or by depth below the shape's surface.
+nlohmann::json graded_profile(const PartLattice& lat, double level, const PorosityRamp& ramp,
+                              const std::vector<float>& place, const ScaffoldDesign& d,
+                              const ShapeFill* shape) {
+  if (ramp.by_surface) return depth_profile(lat, level, ramp, place, d, shape->skin);
+  const int layers = lat.nodes[ramp.axis];
+  std::vector<double> target(layers);
+  for (int q = 0; q < layers; ++q)
+    target[q] = 1.0 - ramp_porosity(ramp, (q + 0.5) / layers);
+  return porosity_profile(lat, level, ramp.axis, target, d);
 }
 
 }  // namespace
@@ -525,63 +628,40 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
     if (!(1.0 - p >= lo - ramp.fraction_tol && 1.0 - p <= hi + ramp.fraction_tol))
       throw std::invalid_argument(fmt::format(
           "porosity {}: outside the members' porosities [{:.6f}, {:.6f}]", p, 1.0 - hi, 1.0 - lo));
+  check_ramp_place(ramp, shape);
   auto t0 = std::chrono::steady_clock::now();
-  // The blend along the axis: the solid fraction 1 - porosity is interpolated between the two
-  // members that bracket it, so each member enters with a hat-function weight per layer.
+  // The blend per node: the solid fraction 1 - porosity at the node's place on the ramp is
+  // interpolated between the two members that bracket it (hat-function weights).
   PartLattice lat;
-  std::vector<double> target;  // solid fraction per node layer along the axis
+  std::vector<float> place;
+  nlohmann::json shape_report;
   const Vec3 box = shape ? shape_box(*shape, d, n) : d.size;
   for (std::size_t m = 0; m < members.size(); ++m) {
     PartLattice one =
         sample_part(members[m].phi, box, d.cell_size, [](double v) { return v - 0.5; });
-    const int layers = one.nodes[ramp.axis];
     if (m == 0) {
       lat = one;
       std::fill(lat.a.begin(), lat.a.end(), 0.0f);
-      target.resize(layers);
-      for (int q = 0; q < layers; ++q)
-        target[q] = 1.0 - (ramp.from + (ramp.to - ramp.from) * (q + 0.5) / layers);
+      if (shape != nullptr)
+        shape_report = cut_to_shape(lat, *shape, d, n, ramp.by_surface ? ramp.depth : 0.0);
+      place = ramp_place(lat, ramp, d, shape ? shape->skin : 0.0);
     }
-    std::vector<float> weight(layers, 0.0f);
-    for (int q = 0; q < layers; ++q) {
-      const double a = std::clamp(target[q], lo, hi);
-      const double here = members[m].volume_fraction;
-      if (m > 0 && a >= members[m - 1].volume_fraction && a <= here)
-        weight[q] =
-            float((a - members[m - 1].volume_fraction) / (here - members[m - 1].volume_fraction));
-      else if (m + 1 < members.size() && a >= here && a < members[m + 1].volume_fraction)
-        weight[q] =
-            float((members[m + 1].volume_fraction - a) / (members[m + 1].volume_fraction - here));
-      else if (a == here)
-        weight[q] = 1.0f;
+    const double here = members[m].volume_fraction;
+    const double below = m > 0 ? members[m - 1].volume_fraction : NAN,
+                 above = m + 1 < members.size() ? members[m + 1].volume_fraction : NAN;
+    for (std::size_t id = 0; id < lat.count(); ++id) {
+      const double a = std::clamp(1.0 - ramp_porosity(ramp, place[id]), lo, hi);
+      float w = 0.0f;
+      if (m > 0 && a >= below && a <= here) w = float((a - below) / (here - below));
+      else if (m + 1 < members.size() && a >= here && a < above)
+        w = float((above - a) / (above - here));
+      else if (a == here) w = 1.0f;
+      if (w != 0.0f) lat.a[id] += w * one.a[id];
     }
-    for (int k = 0; k < lat.nodes[2]; ++k)
-      for (int j = 0; j < lat.nodes[1]; ++j)
-        for (int i = 0; i < lat.nodes[0]; ++i) {
-          const int at[3] = {i, j, k};
-          const float w = weight[at[ramp.axis]];
-          if (w != 0.0f) lat.a[lat.index(i, j, k)] += w * one.a[lat.index(i, j, k)];
-        }
   }
+  // A shape's mean porosity: the ramp's weighted by its nodes (for an axis, its sections).
   ScaffoldDesign mean = d;
-  mean.porosity = 0.5 * (ramp.from + ramp.to);
-  nlohmann::json shape_report;
-  if (shape != nullptr) {
-    // A shape follows the ramp along its bounding box's axis; its mean porosity is the ramp's
-    // weighted by the shape's section per node layer.
-    shape_report = cut_to_shape(lat, *shape, d, n);
-    std::vector<double> in(target.size(), 0.0);
-    for (int k = 0; k < lat.nodes[2]; ++k)
-      for (int j = 0; j < lat.nodes[1]; ++j)
-        for (int i = 0; i < lat.nodes[0]; ++i) {
-          const int at[3] = {i, j, k};
-          in[at[ramp.axis]] += lat.clip[lat.index(i, j, k)] > 0;
-        }
-    double sum = 0.0, weight = 0.0;
-    for (std::size_t q = 0; q < target.size(); ++q)
-      sum += in[q] * (1.0 - target[q]), weight += in[q];
-    if (weight > 0) mean.porosity = sum / weight;
-  }
+  mean.porosity = ramp_mean(lat, ramp, place);
   const double sample_seconds = seconds_since(t0);
   double final_level = 0.0;
   ScaffoldPart out = finish_part(lat, 0.0, mean, n, nlohmann::json(), final_level, progress);
@@ -590,7 +670,7 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
     r["shape"] = shape_report;
     r["design"]["size"] = nullptr;
   }
-  const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
+  const nlohmann::json profile = graded_profile(lat, final_level, ramp, place, d, shape);
   nlohmann::json fractions = nlohmann::json::array(), cells = nlohmann::json::array();
   double morph_seconds = 0.0;
   t0 = std::chrono::steady_clock::now();
@@ -611,16 +691,13 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
   if (d.morphometry) warn_min_feature(cells, d, out.warnings);
   morph_seconds = seconds_since(t0);
   r["design"]["porosity"] = nullptr;
-  r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
-                 {"porosity_from", ramp.from},
-                 {"porosity_to", ramp.to},
-                 {"porosity_mean", mean.porosity},  // over the box, or the shape's sections
-                 {"member_volume_fractions", fractions},
-                 {"blend", "phi - 1/2 of the two members bracketing the local solid fraction, "
-                           "weights linear in it, per node layer along the axis"},
-                 {"profile", profile},
-                 {"profile_note", "per cell along the axis: the target and the fraction of "
-                                  "lattice nodes outside the solid"}};
+  r["graded"] = ramp_json(ramp, d);
+  r["graded"].update({{"porosity_mean", mean.porosity},  // over the box, or the shape's nodes
+                      {"member_volume_fractions", fractions},
+                      {"blend", "phi - 1/2 of the two members bracketing the local solid "
+                                "fraction, weights linear in it, per node (its layer along the "
+                                "axis, or its depth)"},
+                      {"profile", profile}});
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;
@@ -638,18 +715,20 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 }
 
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
-                                 const PorosityRamp& ramp, const DecimateProgress& progress) {
+                                 const PorosityRamp& ramp, const DecimateProgress& progress,
+                                 const ShapeFill* shape) {
   if (d.solid != SolidKind::kSheet)
     throw std::invalid_argument("a graded sheet is a sheet solid");
   for (double p : {ramp.from, ramp.to})
     if (!(p > 0.0 && p < 1.0))
       throw std::invalid_argument(fmt::format("porosity {} must be in (0, 1)", p));
   if (ramp.axis < 0 || ramp.axis > 2) throw std::invalid_argument("ramp axis must be 0, 1 or 2");
+  check_ramp_place(ramp, shape);
   const int n = phi.n();
   auto t0 = std::chrono::steady_clock::now();
-  // Each node layer's wall from Steiner's formula at its porosity, offset from the mean wall's:
+  // Each node's wall from Steiner's formula at its porosity, offset from the mean wall's:
   // a = -|d| + (t_q - t_mean) / 2, so that {a > -t_mean / 2} is {|d| < t_q / 2} and the part's
-  // level solve shifts every layer's wall by the same amount to meet the mean porosity.
+  // level solve shifts every node's wall by the same amount to meet the mean porosity.
   const nlohmann::json periodic = periodic_surface_json(phi);
   const double area = periodic["area"].get<double>();
   const double chi = periodic["euler_characteristic"].get<double>();
@@ -661,26 +740,29 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
           "walls thinner than half a cell", porosity, t));
     return t;
   };
-  const double mean_porosity = 0.5 * (ramp.from + ramp.to);
-  const double t_from = wall(ramp.from), t_to = wall(ramp.to), t_mean = wall(mean_porosity);
+  const double t_from = wall(ramp.from), t_to = wall(ramp.to);
   const Field distance = signed_distance(phi, std::min(0.5, std::max(t_from, t_to) + 4.0 / n));
   const double field_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
-  PartLattice lat =
-      sample_part(distance, d.size, d.cell_size, [](double v) { return -std::abs(v); });
-  const int layers = lat.nodes[ramp.axis];
-  std::vector<double> target(layers), offset(layers);
-  for (int q = 0; q < layers; ++q) {
-    const double p = ramp.from + (ramp.to - ramp.from) * (q + 0.5) / layers;
-    target[q] = 1.0 - p;
-    offset[q] = 0.5 * (wall(p) - t_mean);
+  PartLattice lat = sample_part(distance, shape ? shape_box(*shape, d, n) : d.size, d.cell_size,
+                                [](double v) { return -std::abs(v); });
+  nlohmann::json shape_report;
+  if (shape != nullptr)
+    shape_report = cut_to_shape(lat, *shape, d, n, ramp.by_surface ? ramp.depth : 0.0);
+  const std::vector<float> place = ramp_place(lat, ramp, d, shape ? shape->skin : 0.0);
+  const double mean_porosity = ramp_mean(lat, ramp, place);
+  const double t_mean = wall(mean_porosity);
+  // The wall along the ramp, tabulated: Steiner's thickness is smooth in the porosity, so a
+  // linear interpolant of 1024 intervals is exact to far below a lattice spacing.
+  constexpr int kWallTable = 1024;
+  std::vector<double> offset(kWallTable + 1);
+  for (int q = 0; q <= kWallTable; ++q)
+    offset[q] = 0.5 * (wall(ramp_porosity(ramp, double(q) / kWallTable)) - t_mean);
+  for (std::size_t id = 0; id < lat.count(); ++id) {
+    const double x = place[id] * kWallTable;
+    const int q = std::min(kWallTable - 1, int(x));
+    lat.a[id] += float(offset[q] + (x - q) * (offset[q + 1] - offset[q]));
   }
-  for (int k = 0; k < lat.nodes[2]; ++k)
-    for (int j = 0; j < lat.nodes[1]; ++j)
-      for (int i = 0; i < lat.nodes[0]; ++i) {
-        const int at[3] = {i, j, k};
-        lat.a[lat.index(i, j, k)] += float(offset[at[ramp.axis]]);
-      }
   const double sample_seconds = seconds_since(t0);
   ScaffoldDesign mean = d;
   mean.porosity = mean_porosity;
@@ -694,9 +776,12 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
   const double shift = -2.0 * (final_level + 0.5 * t_mean);
   r["sheet"]["thickness_from"] = (t_from + shift) * d.cell_size;
   r["sheet"]["thickness_to"] = (t_to + shift) * d.cell_size;
-  r["sheet"]["thickness_note"] = "thickness: the mean layer's; thickness_from and _to at the ends "
-                                 "of the axis";
-  const nlohmann::json profile = porosity_profile(lat, final_level, ramp.axis, target, d);
+  r["sheet"]["thickness_note"] = ramp.by_surface
+                                     ? "thickness: at the mean porosity's; thickness_from at the "
+                                       "shape's surface, thickness_to at the depth and deeper"
+                                     : "thickness: the mean layer's; thickness_from and _to at "
+                                       "the ends of the axis";
+  const nlohmann::json profile = graded_profile(lat, final_level, ramp, place, d, shape);
   // The wall and pores of the cells at the two ends.
   nlohmann::json cells = nlohmann::json::array();
   t0 = std::chrono::steady_clock::now();
@@ -715,15 +800,16 @@ ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
   }
   const double morph_seconds = seconds_since(t0);
   r["design"]["porosity"] = nullptr;
-  r["graded"] = {{"axis", std::string(1, "xyz"[ramp.axis])},
-                 {"porosity_from", ramp.from},
-                 {"porosity_to", ramp.to},
-                 {"blend", "the sheet's wall thickness per node layer along the axis, from "
-                           "Steiner's formula at the layer's porosity, all shifted together to "
-                           "meet the mean porosity"},
-                 {"profile", profile},
-                 {"profile_note", "per cell along the axis: the target and the fraction of "
-                                  "lattice nodes outside the solid"}};
+  r["graded"] = ramp_json(ramp, d);
+  r["graded"].update({{"porosity_mean", mean_porosity},
+                      {"blend", "the sheet's wall thickness per node (its layer along the axis, "
+                                "or its depth), from Steiner's formula at its porosity, all "
+                                "shifted together to meet the mean porosity"},
+                      {"profile", profile}});
+  if (shape != nullptr) {
+    r["shape"] = shape_report;
+    r["design"]["size"] = nullptr;
+  }
   nlohmann::json morph = surface_measures(out, lat, d.units);
   if (d.morphometry) morph["members"] = cells;
   if (d.morphometry && d.min_feature > 0) morph["min_feature"] = d.min_feature;

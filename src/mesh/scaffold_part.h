@@ -74,6 +74,10 @@ struct PorosityRamp {
   double from = 0.8, to = 0.6;
   int axis = 2;               // 0 x, 1 y, 2 z
   double fraction_tol = 1e-4;  // ends accepted this far outside the members' range
+  // In a shape, by depth instead of along the axis: `from` at the shape's surface (the inner
+  // face of its skin), `to` at `depth` below it and deeper, linear in between.
+  bool by_surface = false;
+  double depth = 0.0;  // output units
 };
 
 // members: network members (phase 1 solid) sorted by increasing volume fraction, one grid,
@@ -82,7 +86,8 @@ struct PorosityRamp {
 // `graded` (the profile per cell along the axis) and per-member morphometry. Throws
 // std::invalid_argument on a ramp outside the members or a sheet, ClosedCellError as above.
 // shape: fill it instead of d.size's box (a graded fill: the ramp runs along its bounding
-// box's axis, the mean porosity is the ramp's weighted by the shape's section per layer).
+// box's axis, the mean porosity is the ramp's weighted by the shape's section per layer; with
+// ramp.by_surface by the depth below its surface, the mean over the shape's nodes).
 ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
                                     const ScaffoldDesign& d, const PorosityRamp& ramp,
                                     const DecimateProgress& progress = {},
@@ -92,9 +97,11 @@ ScaffoldPart design_graded_scaffold(const std::vector<GradedMember>& members,
 // from ramp.from to ramp.to (each node layer's wall from Steiner's formula at its porosity, all
 // shifted by the part's level solve to meet the mean porosity). phi: the balanced member. The
 // report adds `graded` (the profile per cell), `sheet.thickness_from` and `_to`, and the end
-// cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold.
+// cells' morphometry in `morphometry.members`. Throws as design_graded_scaffold. shape: fill it
+// (along its bounding box's axis or, with ramp.by_surface, by depth), as design_graded_scaffold.
 ScaffoldPart design_graded_sheet(const Field& phi, const ScaffoldDesign& d,
-                                 const PorosityRamp& ramp, const DecimateProgress& progress = {});
+                                 const PorosityRamp& ramp, const DecimateProgress& progress = {},
+                                 const ShapeFill* shape = nullptr);
 
 // A graded cell size (a network): the member at cell size `from` at the low end of the axis and
 // at `to` at the high end, the two lattices (sampled on the finer one's nodes) blended with a

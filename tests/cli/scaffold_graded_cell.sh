@@ -4,12 +4,9 @@
 # part"): --cell-size A:B --axis z blends one member at two cell sizes into one connected,
 # percolating network at its porosity; --porosity A:B with --shape grades a network inside a
 # shape; morphometry.part measures the part itself beside its cells' keys.
-set -u
-bin="$1"
+source "$(dirname "$0")/usage.bash" "$1"  # bin, work (removed on exit), fail
+here=$(cd "$(dirname "$0")" && pwd)
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
 common=(--paper --surface G --porosity 0.7 --grid 16 --units mm --cache "$work/cache" --quiet
         --tolerance 0 --no-page)
 
@@ -19,22 +16,8 @@ common=(--paper --surface G --porosity 0.7 --grid 16 --units mm --cache "$work/c
   { echo "FAIL: scaffold box"; fail=1; }
 # A block 3 x 3 x 4 mm (ASCII STL) filled with porosity 0.7 at its bottom, 0.6 at its top (the
 # members at solid fraction 0.3, cached above, and 0.4).
-python3 - "$work/block.stl" <<'PY'
-import sys
-lo, hi = (0.5, 0.5, 0.5), (3.5, 3.5, 4.5)
-v = [(hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1], hi[2] if c & 4 else lo[2])
-     for c in range(8)]
-t = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
-     (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
-with open(sys.argv[1], "w") as f:
-    f.write("solid block\n")
-    for tri in t:
-        f.write(" facet normal 0 0 0\n  outer loop\n")
-        for q in tri:
-            f.write("   vertex %g %g %g\n" % v[q])
-        f.write("  endloop\n endfacet\n")
-    f.write("endsolid block\n")
-PY
+python3 "$here/../../scripts/box_stl.py" "$work/block.stl" 0.5,0.5,0.5 3.5,3.5,4.5 ||
+  { echo "FAIL: box_stl.py"; fail=1; }
 "$bin" scaffold --paper --surface G --porosity 0.7:0.6 --axis z --grid 16 --units mm \
   --cache "$work/cache" --quiet --tolerance 0 --no-page --cell-size 1 --shape "$work/block.stl" \
   --out "$work/filled.stl" || { echo "FAIL: scaffold --porosity 0.7:0.6 --shape"; fail=1; }

@@ -3,12 +3,9 @@
 # --shape with and without --skin, a curved --shape (a sphere) with --compare-nodal; and
 # graded's --help example, whose members' measured fractions straddle their targets
 # (accepted within the volume tolerance).
-set -u
-bin="$1"
+source "$(dirname "$0")/usage.bash" "$1"  # bin, work (removed on exit), fail
+here=$(cd "$(dirname "$0")" && pwd)
 export OMP_NUM_THREADS=1  # the solver spins threads on shared cores
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail=0
 check() { if ! "$@"; then echo "FAIL: $*"; fail=1; fi; }
 json_has() { grep -q -- "\"$2\": $3" "$1" || { echo "FAIL: $1 lacks \"$2\": $3"; fail=1; }; }
 common=(--grid 16 --cell-size 2 --units mm --cache "$work/cache" --quiet)
@@ -26,22 +23,8 @@ assert all(abs(b["porosity_nodes"] - b["porosity_target"]) < 0.03 for b in p), p
 assert p[0]["porosity_nodes"] > p[1]["porosity_nodes"] > p[2]["porosity_nodes"], p
 PY
 # --shape: an ASCII STL block 6 x 5 x 4 mm placed at (1, 2, 3), filled as is and with a skin.
-python3 - "$work/block.stl" <<'PY'
-import sys
-lo, hi = (1, 2, 3), (7, 7, 7)
-v = [(hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1], hi[2] if c & 4 else lo[2])
-     for c in range(8)]
-t = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
-     (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
-with open(sys.argv[1], "w") as f:
-    f.write("solid block\n")
-    for tri in t:
-        f.write(" facet normal 0 0 0\n  outer loop\n")
-        for q in tri:
-            f.write("   vertex %g %g %g\n" % v[q])
-        f.write("  endloop\n endfacet\n")
-    f.write("endsolid block\n")
-PY
+python3 "$here/../../scripts/box_stl.py" "$work/block.stl" 1,2,3 7,7,7 ||
+  { echo "FAIL: box_stl.py"; fail=1; }
 for skin in 0 0.1; do
   "$bin" scaffold --paper --surface G --porosity 0.6 --shape "$work/block.stl" --skin "$skin" \
     --grid 16 --cell-size 2 --cache "$work/cache" --quiet --out "$work/shape$skin.stl" \
