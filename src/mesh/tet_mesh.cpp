@@ -225,6 +225,7 @@ TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>
 
 TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max) {
   TetMeshStats s;
+  s.size_min = size_min, s.size_max = size_max;
   s.nodes = m.nodes.size();
   s.tets = m.tets.size();
   if (m.tets.empty()) return s;
@@ -381,6 +382,9 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
     if (s.dihedral_histogram[b])
       hist.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)},
                       {"tets", s.dihedral_histogram[b]}});
+  // Whether the shortest edge meets --size-min: null when none was asked for.
+  const nlohmann::json size_min_met =
+      s.size_min > 0 ? nlohmann::json(s.edges_below_min == 0) : nlohmann::json();
   return {
       {"nodes", s.nodes},
       {"tets", s.tets},
@@ -398,6 +402,8 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
        {{"min", s.min_edge},
         {"max", s.max_edge},
         {"mean", s.mean_edge},
+        {"size_min", s.size_min},
+        {"size_min_met", size_min_met},
         {"below_size_min", s.edges_below_min},
         {"below_size_min_on_cut", s.edges_below_min_cut},
         {"below_size_min_on_surface", s.edges_below_min_surface},
