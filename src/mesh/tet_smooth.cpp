@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 namespace cmcsurf {
 
@@ -114,7 +115,8 @@ SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, d
   std::size_t nt = t.tets.size();
   std::vector<std::vector<std::pair<std::uint32_t, int>>> incident(nv);
   for (std::size_t i = 0; i < nt; ++i)
-    for (int q = 0; q < 4; ++q) incident[std::size_t(t.tets[i][q])].push_back({std::uint32_t(i), q});
+    for (int q = 0; q < 4; ++q)
+      incident[std::size_t(t.tets[i][q])].push_back({std::uint32_t(i), q});
   const Surface surf = torus_surface(t);
   const std::vector<char>& surface = surf.vertex;
   auto is_fixed = [&](std::size_t v) {
@@ -257,19 +259,39 @@ SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, d
   // other faces, within the sliver's small height of where it ran. Kept where the surface would
   // turn non-manifold (the edge that becomes a surface edge already is one; the apex of three
   // surface faces in another tet), and next to another peeled tet (one at a time there).
+  // Each corner's image in the unit box: its offsets less the cell its tet lies in (as
+  // unfold_periodic_tets places it), and how many tets use it.
+  auto image_key = [&](std::size_t i, int q) {
+    double c[3] = {0, 0, 0};
+    for (int r = 0; r < 4; ++r)
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * corner_position(t, i, r)[a];
+    std::uint64_t key = std::uint64_t(t.tets[i][q]);
+    for (int a = 0; a < 3; ++a)
+      key = (key << 8) | (std::uint64_t(t.offsets[i][q][a] - int(std::floor(c[a])) + 128) & 0xff);
+    return key;
+  };
+  std::unordered_map<std::uint64_t, int> image_uses;
+  for (std::size_t i = 0; i < nt; ++i)
+    for (int q = 0; q < 4; ++q) ++image_uses[image_key(i, q)];
   std::vector<char> peel(nt, 0), touched(nv, 0);
   for (std::size_t i = 0; i < nt; ++i) {
     if (!(quality[i] < target_deg)) continue;
     const unsigned mask = surf.face[i];
     const int faces = std::popcount(mask);
     if (faces != 2 && faces != 3) continue;
-    // Not at a cell face either: a corner there may have its image on the opposite face in
-    // this tet alone, and would be left unmirrored.
+    // Nor where a corner's image in the box (a vertex on a cell face has one on each side) is
+    // in this tet alone: that node would go, leaving its face's twin unmirrored.
     bool ok = true;
-    for (int q = 0; q < 4; ++q) {
-      const Vec3& x = t.vertices[std::size_t(t.tets[i][q])];
-      ok = ok && !touched[std::size_t(t.tets[i][q])] && x[0] != 0 && x[1] != 0 && x[2] != 0;
-    }
+    for (int q = 0; q < 4; ++q)
+      ok = ok && !touched[std::size_t(t.tets[i][q])] && image_uses[image_key(i, q)] > 1;
+    // Nor with a face on a cell face: its twin would turn into surface, unmirrored.
+    for (int skip = 0; skip < 4 && ok; ++skip)
+      for (int a = 0; a < 3 && ok; ++a) {
+        bool on = true;
+        for (int q = 0; q < 4; ++q)
+          on = on && (q == skip || t.vertices[std::size_t(t.tets[i][q])][a] == 0.0);
+        ok = !on;
+      }
     if (faces == 2) {
       int k[2], m = 0;
       for (int q = 0; q < 4; ++q)

@@ -37,8 +37,9 @@ struct SliverSmoothing {
 // keeps that coordinate, moving within the face, and no vertex leaves [0, 1) along another
 // axis, so no tet crosses a face. A move is kept only when the smallest angle of the vertex's
 // tets grows and none turns inverted; deterministic (vertices in index order). Then tets still
-// below the target with two or three faces on the surface and no corner on a cell face are
-// removed where the surface stays manifold (their volume is reported).
+// below the target with two or three faces on the surface and none on a cell face are removed
+// where the surface stays manifold and every corner's node in the box stays in use (their
+// volume is reported).
 // max_edge (unit cells; 0: no limit): a move may not make an edge of the vertex longer than
 // this or than its longest edge before the move.
 SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg = kSliverTargetDeg,
