@@ -376,12 +376,16 @@ TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max
   return s;
 }
 
-nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units) {
+nlohmann::json dihedral_histogram_json(const std::array<std::size_t, 18>& histogram) {
   nlohmann::json hist = nlohmann::json::array();
-  for (std::size_t b = 0; b < s.dihedral_histogram.size(); ++b)
-    if (s.dihedral_histogram[b])
-      hist.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)},
-                      {"tets", s.dihedral_histogram[b]}});
+  for (std::size_t b = 0; b < histogram.size(); ++b)
+    if (histogram[b])
+      hist.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)}, {"tets", histogram[b]}});
+  return hist;
+}
+
+nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units) {
+  const nlohmann::json hist = dihedral_histogram_json(s.dihedral_histogram);
   // Whether the shortest edge meets --size-min: null when none was asked for.
   const nlohmann::json size_min_met =
       s.size_min > 0 ? nlohmann::json(s.edges_below_min == 0) : nlohmann::json();

@@ -80,6 +80,8 @@ struct TetMeshStats {
 };
 TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min = 0.0, double size_max = 0.0);
 nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units);
+// The non-empty 10-degree bins of a smallest-dihedral histogram: from_deg, to_deg, tets.
+nlohmann::json dihedral_histogram_json(const std::array<std::size_t, 18>& histogram);
 
 // Signed volume of the tet (a, b, c, d): positive when (b - a, c - a, d - a) is right-handed.
 double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

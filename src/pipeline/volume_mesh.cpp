@@ -252,12 +252,7 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   else
     r["cut"] = {{"faces", "fundamental domain"}};
   if (smooth) {
-    auto hist = [](const std::array<std::size_t, 18>& h) {
-      nlohmann::json j = nlohmann::json::array();
-      for (std::size_t b = 0; b < h.size(); ++b)
-        if (h[b]) j.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)}, {"tets", h[b]}});
-      return j;
-    };
+    const auto hist = dihedral_histogram_json;
     r["smoothing"] = {{"target_min_dihedral_deg", p.sliver_target_deg},
                       {"min_dihedral_before_deg", smoothing.min_dihedral_before},
                       {"min_dihedral_after_deg", smoothing.min_dihedral_after},
