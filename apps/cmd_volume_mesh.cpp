@@ -51,8 +51,9 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
                               kDefaultVolumeMeshSize));
   app->add_option("--size-max", o.size_max, "Longest edge, output units (as --size)");
   app->add_option("--size-min", o.size_min,
-                  "Shortest edge wanted, output units: edges below it are counted and flagged, "
-                  "not removed (CGAL 5.5 has no lower bound)");
+                  "Shortest edge wanted, output units: not enforced (CGAL 5.5 has no lower "
+                  "bound); FILE.json says whether the mesh meets it (edge_length.size_min_met) "
+                  "and counts the edges below it");
   app->add_option("--facet-distance", o.facet_distance,
                   fmt::format("Surface facets within this of phi = 1/2, output units (default "
                               "{:g} of the longest edge)", kDefaultFacetDistanceShare));
@@ -110,11 +111,11 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
               if (e["below_size_min"].get<long>() > 0)
                 std::cerr << fmt::format(
                     "note: {} of {} edges are shorter than --size-min ({} on the surface, {} on "
-                    "the cut faces): CGAL 5.5 has no lower size bound; the mesh is kept, FILE.json "
-                    "counts them (edge_length)\n",
+                    "the cut faces; the shortest {:.3g} {}): CGAL 5.5 has no lower size bound; "
+                    "the mesh is kept, FILE.json counts them (edge_length.size_min_met false)\n",
                     e["below_size_min"].get<long>(), r["edges"].get<long>(),
                     e["below_size_min_on_surface"].get<long>(),
-                    e["below_size_min_on_cut"].get<long>());
+                    e["below_size_min_on_cut"].get<long>(), e["min"].get<double>(), p.units);
             }
             return 0;
           }};

@@ -81,11 +81,20 @@ PeriodicTets mesh_periodic_solid(const Field& g, double level, const PeriodicMes
                     params::facet_distance = c.facet_distance,
                     params::cell_radius_edge_ratio = c.radius_edge,
                     params::cell_size = c.cell_radius);
-  // The perturber draws from CGAL's global generator: reseeded. Runs still differ by a few
-  // tets: CGAL stops the perturber and the exuder after as long as the refinement took (a
-  // wall-clock limit). Without it (time_limit = 0) runs repeat, but take 4x as long.
+  // The perturber draws from CGAL's global generator: reseeded. CGAL's default stops the
+  // perturber and the exuder after as long as the refinement took (a wall-clock limit), so runs
+  // differed by a few tets; without the limit they repeat bit for bit, and the bounds stop them
+  // once every tet's smallest angle is above them (unbounded, they took 4x as long).
   CGAL::get_default_random() = CGAL::Random(0);
-  C3t3 c3t3 = CGAL::make_periodic_3_mesh_3<C3t3>(domain, criteria);
+  const double limit = c.repeatable ? 0.0 : -1.0;
+  const auto perturb = params::perturb(params::time_limit = limit,
+                                       params::sliver_bound = c.perturb_bound_deg);
+  const auto exude =
+      params::exude(params::time_limit = limit, params::sliver_bound = c.exude_bound_deg);
+  C3t3 c3t3 = !c.repeatable ? CGAL::make_periodic_3_mesh_3<C3t3>(domain, criteria)
+              : c.perturb   ? CGAL::make_periodic_3_mesh_3<C3t3>(domain, criteria, perturb, exude)
+                            : CGAL::make_periodic_3_mesh_3<C3t3>(domain, criteria,
+                                                                 params::no_perturb(), exude);
   const Tr& tr = c3t3.triangulation();
 
   PeriodicTets out;

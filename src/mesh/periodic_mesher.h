@@ -20,6 +20,16 @@ struct PeriodicMeshCriteria {
   double facet_distance = 0.002;  // facet circumcentre to the surface at most
   double facet_angle = 25.0;      // surface facets' smallest angle at least (degrees; <= 30)
   double radius_edge = 2.0;       // a tet's circumradius / shortest edge at most
+  // CGAL's sliver perturber and exuder. repeatable: no wall-clock limit (CGAL's default stops
+  // them after as long as the refinement took, so a busier machine got fewer of their steps and
+  // runs differed by a few tets); they stop once no tet's smallest dihedral angle is below their
+  // bound (degrees) or no step improves one. 10: measured on the 64^3 gyroid, 4-8 s a cell
+  // like the time-limited default (bound 0, as far as they get: 4x that); the flat cut's
+  // smoothing (mesh/tet_smooth.h) then takes the smallest angle above 5 degrees.
+  bool repeatable = true;
+  bool perturb = true;
+  double perturb_bound_deg = 10.0;
+  double exude_bound_deg = 10.0;
 };
 
 // Whether this build has the mesher (CGAL found at configure time), and its name and version.

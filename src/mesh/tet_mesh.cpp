@@ -225,6 +225,7 @@ TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>
 
 TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max) {
   TetMeshStats s;
+  s.size_min = size_min, s.size_max = size_max;
   s.nodes = m.nodes.size();
   s.tets = m.tets.size();
   if (m.tets.empty()) return s;
@@ -375,12 +376,19 @@ TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max
   return s;
 }
 
-nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units) {
+nlohmann::json dihedral_histogram_json(const std::array<std::size_t, 18>& histogram) {
   nlohmann::json hist = nlohmann::json::array();
-  for (std::size_t b = 0; b < s.dihedral_histogram.size(); ++b)
-    if (s.dihedral_histogram[b])
-      hist.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)},
-                      {"tets", s.dihedral_histogram[b]}});
+  for (std::size_t b = 0; b < histogram.size(); ++b)
+    if (histogram[b])
+      hist.push_back({{"from_deg", 10 * b}, {"to_deg", 10 * (b + 1)}, {"tets", histogram[b]}});
+  return hist;
+}
+
+nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units) {
+  const nlohmann::json hist = dihedral_histogram_json(s.dihedral_histogram);
+  // Whether the shortest edge meets --size-min: null when none was asked for.
+  const nlohmann::json size_min_met =
+      s.size_min > 0 ? nlohmann::json(s.edges_below_min == 0) : nlohmann::json();
   return {
       {"nodes", s.nodes},
       {"tets", s.tets},
@@ -398,6 +406,8 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
        {{"min", s.min_edge},
         {"max", s.max_edge},
         {"mean", s.mean_edge},
+        {"size_min", s.size_min},
+        {"size_min_met", size_min_met},
         {"below_size_min", s.edges_below_min},
         {"below_size_min_on_cut", s.edges_below_min_cut},
         {"below_size_min_on_surface", s.edges_below_min_surface},

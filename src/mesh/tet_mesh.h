@@ -67,6 +67,7 @@ struct TetMeshStats {
   std::array<std::size_t, 18> dihedral_histogram{};      // each tet's smallest angle, 10 deg
   double min_edge = 0.0, max_edge = 0.0, mean_edge = 0.0;
   std::size_t edges_below_min = 0, edges_above_max = 0;
+  double size_min = 0.0, size_max = 0.0;  // the bounds asked for (0: none)
   // Of those below size_min: with both ends on the periodic cut, on the solid's surface.
   std::size_t edges_below_min_cut = 0, edges_below_min_surface = 0;
   // The cut against the box [0, period]: nodes on each plane (x = 0, x = period_x, y = 0, ...),
@@ -79,6 +80,8 @@ struct TetMeshStats {
 };
 TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min = 0.0, double size_max = 0.0);
 nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& units);
+// The non-empty 10-degree bins of a smallest-dihedral histogram: from_deg, to_deg, tets.
+nlohmann::json dihedral_histogram_json(const std::array<std::size_t, 18>& histogram);
 
 // Signed volume of the tet (a, b, c, d): positive when (b - a, c - a, d - a) is right-handed.
 double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

@@ -205,6 +205,11 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   CellFaceCut cut;
   if (p.flat_faces) cut = cut_at_cell_faces(torus, p.cut_snap);
   const double cut_seconds = seconds_since(t2);
+  const auto t5 = WallClock::now();
+  SliverSmoothing smoothing;
+  const bool smooth = p.flat_faces && p.sliver_target_deg > 0.0;
+  if (smooth) smoothing = smooth_slivers(torus, p.sliver_target_deg, kSliverSweeps, p.size_max);
+  const double smooth_seconds = seconds_since(t5);
   const auto t4 = WallClock::now();
   out.mesh = unfold_periodic_tets(torus, p.tiles, p.cell_size);
   const double unfold_seconds = seconds_since(t4);
@@ -246,6 +251,23 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                 {"units", p.units}};
   else
     r["cut"] = {{"faces", "fundamental domain"}};
+  if (smooth) {
+    const auto hist = dihedral_histogram_json;
+    r["smoothing"] = {{"target_min_dihedral_deg", p.sliver_target_deg},
+                      {"min_dihedral_before_deg", smoothing.min_dihedral_before},
+                      {"min_dihedral_after_deg", smoothing.min_dihedral_after},
+                      {"tets_below_target_before", smoothing.tets_below_target_before},
+                      {"tets_below_target_after", smoothing.tets_below_target_after},
+                      {"min_dihedral_histogram_before", hist(smoothing.histogram_before)},
+                      {"min_dihedral_histogram_after", hist(smoothing.histogram_after)},
+                      {"vertices_tried", smoothing.vertices_tried},
+                      {"moves", smoothing.moves},
+                      {"sweeps", smoothing.sweeps},
+                      {"fixed_vertices", smoothing.fixed_vertices},
+                      {"peeled_surface_slivers", smoothing.peeled},
+                      {"peeled_volume", smoothing.peeled_volume * L * L * L},
+                      {"note", "per cell (the torus mesh after the cut); surface vertices fixed"}};
+  }
   r["criteria"] = {{"size_max", p.size_max * L},
                    {"size_min", p.size_min * L},
                    {"facet_distance", p.facet_distance * L},
@@ -253,8 +275,12 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                    {"facet_size", c.facet_size * L},
                    {"facet_angle_deg", c.facet_angle},
                    {"cell_radius_edge_ratio", c.radius_edge},
+                   {"perturb_sliver_bound_deg", c.perturb_bound_deg},
+                   {"exude_sliver_bound_deg", c.exude_bound_deg},
+                   {"repeatable", c.repeatable},
                    {"units", p.units},
-                   {"size_min_note", "CGAL 5.5 has no lower size bound: counted, not enforced"}};
+                   {"size_min_note", "CGAL 5.5 has no lower size bound: not enforced; "
+                                     "edge_length.size_min_met says whether the mesh meets it"}};
   r["torus"] = {{"vertices", torus_vertices}, {"tets", torus_tets},
                 {"vertices_split", torus.vertices.size()}, {"tets_split", torus.tets.size()}};
   // The pairs by translation, in block periods.
@@ -279,6 +305,7 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   r["seconds"] = {{"level_set", level_set_seconds},
                   {"mesh", mesh_seconds},
                   {"cut", cut_seconds},
+                  {"smooth", smooth_seconds},
                   {"unfold", unfold_seconds},
                   {"analyze", analyze_seconds}};
   r["mesh_seconds"] = mesh_seconds;

@@ -15,6 +15,7 @@
 #include "mesh/periodic_mesher.h"
 #include "mesh/scaffold.h"
 #include "mesh/tet_mesh.h"
+#include "mesh/tet_smooth.h"
 
 namespace cmcsurf {
 
@@ -57,6 +58,9 @@ struct VolumeMeshParams {
   // domain.
   bool flat_faces = true;
   double cut_snap = kDefaultCellFaceSnap;
+  // After the flat cut: the vertices of tets under this smallest dihedral angle are smoothed
+  // (mesh/tet_smooth.h); 0: not.
+  double sliver_target_deg = kSliverTargetDeg;
 };
 
 // Checks every option against the field's grid n; throws OptionError (pipeline/run_options.h)
