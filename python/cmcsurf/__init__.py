@@ -49,7 +49,7 @@ __doc__ = (__doc__ or "").replace("``HISTORY_COLUMNS``",
 
 Progress = Optional[Callable[[Dict[str, Any]], Any]]
 
-# The run options (the C++ run option table, pipeline/run_schema.cpp): the keywords of run,
+# The run options (the C++ run option table, model/run_schema.cpp): the keywords of run,
 # relax and sweep with the command line's defaults. Their signatures are built from it below;
 # None, the default of the options --fast or --paper chooses, lets the mode choose (the fast
 # mode unless paper=True).
@@ -558,7 +558,7 @@ def scattering(
     return _cmcsurf.scattering(source, options, threads)
 
 
-# The scaffold's own options (pipeline/scaffold_run.cpp, the table `cmcsurf scaffold` reads):
+# The scaffold's own options (driver/scaffold_run.cpp, the table `cmcsurf scaffold` reads):
 # key, cli, help, type, default (None where the command line's is "" or none).
 _SCAFFOLD_OPTIONS: List[Dict[str, Any]] = _cmcsurf.scaffold_options()
 # Options a designer writes as numbers or tuples; the command line's text form is made here.

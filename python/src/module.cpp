@@ -230,7 +230,7 @@ std::string with_given(std::string message, long long shown, const std::string& 
   return message;
 }
 
-// threads=T: an integer, checked as --threads is (pipeline/option_checks.h).
+// threads=T: an integer, checked as --threads is (model/option_checks.h).
 int threads_option(py::handle v) {
   std::string given;
   const long long t = integer_option(v, "threads", &given);
@@ -239,7 +239,7 @@ int threads_option(py::handle v) {
   return int(t);
 }
 
-// seed=S: 0 <= S < 2^64 as --seed (the sign is check_seed's, pipeline/option_checks.h).
+// seed=S: 0 <= S < 2^64 as --seed (the sign is check_seed's, model/option_checks.h).
 unsigned long long seed_option(py::handle v) {
   if (!is_number(v, "Integral")) wrong_type(v, "seed", "an integer");
   const py::int_ seed = py::module_::import("operator").attr("index")(v);
@@ -283,7 +283,7 @@ class IntOptions {
   int clamped_ = 0;
 };
 
-// The keyword arguments of run(): the run option table's keys (pipeline/run_schema.h), each
+// The keyword arguments of run(): the run option table's keys (model/run_schema.h), each
 // converted by its type. None means "not given" only for the options --fast or --paper chooses
 // (and is a TypeError elsewhere); a key that is absent is not given. Unknown keys are a
 // TypeError, as in any Python call.
@@ -370,7 +370,7 @@ RunParams run_params(const py::dict& options, bool check_surface,
 }
 
 // A run that cannot fit in the memory this process may still take raises MemoryError now,
-// naming the figures (pipeline/run_options.h), instead of failing after the solve.
+// naming the figures (model/run_options.h), instead of failing after the solve.
 void refuse_if_too_large(const RunParams& p) {
   if (const std::string why = check_run_memory(p); !why.empty()) {
     PyErr_SetString(PyExc_MemoryError, why.c_str());
@@ -612,7 +612,7 @@ struct Result {
         throw;
       }
       // The pictures of the quality stage that ran with the run, then the folder as the
-      // command line finishes it (pipeline/run_finish.h).
+      // command line finishes it (driver/run_finish.h).
       RunOutputs outputs = run_pictures(params, result, quality, preview, page);
       RunFolderOptions o;
       o.threads = threads;
@@ -902,7 +902,7 @@ std::shared_ptr<Mesh> mesh(py::handle source, const py::dict& options, py::handl
   return out;
 }
 
-// cmcsurf volume-mesh of a Result or an (N, N, N) field (mesh/volume_mesh.h): writes `out`
+// cmcsurf volume-mesh of a Result or an (N, N, N) field (pipeline/volume_mesh.h): writes `out`
 // and out.json as the command does and returns the report. options: solid, porosity,
 // thickness, tile, cell_size, units, size, size_min, size_max, facet_distance, cut, format
 // (None: not given).

@@ -43,17 +43,6 @@ constexpr long kMaxTriangles = 4'000'000'000L;
 
 using O = ScaffoldOptions;
 
-// A JSON file this driver wrote (FILE.json, a cache entry's member.json).
-nlohmann::json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
-  }
-}
-
 }  // namespace
 
 const std::vector<ScaffoldOption>& scaffold_option_table() {
@@ -454,7 +443,7 @@ Field member_field(const ScaffoldContext& ctx, const RunParams& p,
     // written with; a damaged or unreadable one is recomputed (and overwritten).
     std::string problem;
     try {
-      const nlohmann::json saved = read_json(dir / "member.json");
+      const nlohmann::json saved = read_json_file(dir / "member.json");
       if (saved.value("parameters", nlohmann::json()) == params) {
         const auto crc = file_crc32(dir / "field.vti");
         const nlohmann::json want = saved.value("field_crc32", nlohmann::json());
@@ -922,7 +911,7 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
                           {"stl_bytes_equivalent", 84 + 50 * part.mesh.triangles.size()}});
   ScaffoldRun run;
   run.out = plan.out;
-  run.report = read_json(plan.out.string() + ".json");
+  run.report = read_json_file(plan.out.string() + ".json");
   run.warnings = part.warnings;
   if (page) {
     // From FILE.json as written, so that the page shows the file's numbers.

@@ -74,7 +74,7 @@ const std::vector<ScaffoldOption>& scaffold_option_table();
 // recording it as given; OptionError naming the option and the type accepted.
 void set_scaffold_option(ScaffoldOptions& o, const ScaffoldOption& option,
                          const nlohmann::json& value);
-// A run option (pipeline/run_schema.h) by key from a JSON value, as set_scaffold_option;
+// A run option (model/run_schema.h) by key from a JSON value, as set_scaffold_option;
 // null leaves it to --fast or --paper. OptionError for an unknown key or a wrong type.
 void set_run_option_json(RunParams& p, RunChoices& c, const std::string& key,
                          const nlohmann::json& value);

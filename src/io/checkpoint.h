@@ -1,4 +1,4 @@
-// checkpoint.bin: a run's whole state between two time steps (pipeline/cmc.h Checkpoint), so
+// checkpoint.bin: a run's whole state between two time steps (model/run.h Checkpoint), so
 // that `run --resume DIR` continues it to the same bits (docs/reliability.md).
 //
 // Container (little-endian; docs/reliability.md has the table):

@@ -180,7 +180,7 @@ SweepJson resumed_sweep(
   nlohmann::json j;
   SweepJson saved;  // checked: ranges, member names; no executables among its outputs
   try {
-    j = read_report(file);
+    j = read_json_file(file);
     saved = parse_sweep_json(j);
     j.at("parameters");
   } catch (const std::invalid_argument& e) {

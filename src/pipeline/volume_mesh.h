@@ -63,7 +63,7 @@ struct VolumeMeshParams {
   double sliver_target_deg = kSliverTargetDeg;
 };
 
-// Checks every option against the field's grid n; throws OptionError (pipeline/run_options.h)
+// Checks every option against the field's grid n; throws OptionError (model/run_options.h)
 // naming the option and the accepted range.
 VolumeMeshParams volume_mesh_params(const VolumeMeshOptions& o, int n);
 
