@@ -651,6 +651,10 @@ const std::vector<NestedKey> kNestedReportKeys = {
      .label = "stopped by",
      .help = "what stopped the run (SIGINT, SIGTERM, a Python exception in progress)",
      .timing = true},
+    {.path = "checkpoint.anderson_columns",
+     .label = "mixing history",
+     .help = "Anderson mixing columns the checkpoint carries (0: it stopped outside the mixing)",
+     .timing = true},
     // bisection (io/run_report.cpp): step 4's threshold.
     {.path = "bisection.beta",
      .label = "β",
