@@ -11,7 +11,10 @@ import sys
 
 
 def main():
-    if len(sys.argv) not in (2, 4, 5):
+    if len(sys.argv) in (2, 4, 5) and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return 0
+    if len(sys.argv) not in (2, 4, 5) or sys.argv[1].startswith("-"):
         print(__doc__, file=sys.stderr)
         return 2
     out = sys.argv[1]
