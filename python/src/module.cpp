@@ -1063,15 +1063,7 @@ py::list properties_stage(const py::list& results, const py::dict& o, py::handle
     }
   }
   for (Result* r : members) r->report_cache = py::object();
-  const std::string csv = sweep_csv(reports);
-  const std::string header = csv.substr(0, csv.find('\n'));
-  py::list columns;
-  for (std::size_t pos = 0; pos <= header.size();) {
-    const std::size_t comma = std::min(header.find(',', pos), header.size());
-    columns.append(header.substr(pos, comma - pos));
-    pos = comma + 1;
-  }
-  return columns;
+  return py::list(py::cast(sweep_columns(reports)));
 }
 
 // sweep(out=...) and sweep(resume=...): the library's sweep driver (driver/sweep_driver.h), so

@@ -161,17 +161,6 @@ class ModSampledHausdorffT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   std::vector<typename Mesh::FaceHandle> faces_;
 };
 
-// The bounding box alone (analyze_mesh also counts edges, seconds on a large part).
-MeshStats bounding_box(const TriMesh& m) {
-  MeshStats box;
-  if (m.vertices.empty()) return box;
-  box.min = box.max = m.vertices[0];
-  for (const Vec3& v : m.vertices)
-    for (int c = 0; c < 3; ++c)
-      box.min[c] = std::min(box.min[c], v[c]), box.max[c] = std::max(box.max[c], v[c]);
-  return box;
-}
-
 // Largest distance from the points to the mesh (one-sided), by a uniform grid of triangle
 // bounding boxes searched in growing shells around each point.
 double max_distance_to(const TriMesh& m, const std::vector<Vec3>& points) {

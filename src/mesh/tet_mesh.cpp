@@ -94,6 +94,38 @@ void box_faces(const TetMesh& m, const std::vector<FaceKey>& boundary, Periodic 
 
 }  // namespace
 
+std::vector<TorusFace> torus_boundary_faces(const PeriodicTets& t) {
+  std::vector<TorusFace> faces;
+  faces.reserve(4 * t.tets.size());
+  for (std::size_t i = 0; i < t.tets.size(); ++i)
+    for (int skip = 0; skip < 4; ++skip) {
+      TorusFace f;
+      f.tet = i, f.skip = skip;
+      int k = 0;
+      for (int c = 0; c < 4; ++c)
+        if (c != skip)
+          f.corners[std::size_t(k++)] = {
+              t.tets[i][c], {t.offsets[i][c][0], t.offsets[i][c][1], t.offsets[i][c][2]}};
+      std::sort(f.corners.begin(), f.corners.end());
+      const Image base = f.corners[0].second;  // translate so the first corner has offset 0
+      for (auto& [v, w] : f.corners)
+        for (int a = 0; a < 3; ++a) w[a] -= base[a];
+      faces.push_back(f);
+    }
+  const auto by_corners = [](const TorusFace& a, const TorusFace& b) {
+    return a.corners < b.corners;
+  };
+  std::sort(faces.begin(), faces.end(), by_corners);
+  std::vector<TorusFace> boundary;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j].corners == faces[i].corners) ++j;
+    if (j - i == 1) boundary.push_back(faces[i]);
+    i = j;
+  }
+  return boundary;
+}
+
 double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0;
 }
@@ -189,36 +221,7 @@ TetMesh unfold_periodic_tets(const PeriodicTets& torus, const std::array<int, 3>
   }
   std::sort(m.pairs.begin(), m.pairs.end(),
             [](const PeriodicPair& a, const PeriodicPair& b) { return a.slave < b.slave; });
-  // The torus mesh's own boundary: faces of one tet (vertices and relative offsets equal).
-  struct TorusFace {
-    std::array<std::pair<std::int32_t, Image>, 3> c;
-    bool operator<(const TorusFace& o) const { return c < o.c; }
-    bool operator==(const TorusFace& o) const { return c == o.c; }
-  };
-  std::vector<TorusFace> faces;
-  faces.reserve(4 * torus.tets.size());
-  for (std::size_t t = 0; t < torus.tets.size(); ++t)
-    for (int skip = 0; skip < 4; ++skip) {
-      TorusFace f;
-      int k = 0;
-      for (int c = 0; c < 4; ++c)
-        if (c != skip)
-          f.c[k++] = {torus.tets[t][c],
-                      {torus.offsets[t][c][0], torus.offsets[t][c][1], torus.offsets[t][c][2]}};
-      std::sort(f.c.begin(), f.c.end());
-      const Image base = f.c[0].second;  // translate so the first corner has offset 0
-      for (auto& [v, w] : f.c)
-        for (int a = 0; a < 3; ++a) w[a] -= base[a];
-      faces.push_back(f);
-    }
-  std::sort(faces.begin(), faces.end());
-  std::size_t boundary = 0;
-  for (std::size_t i = 0; i < faces.size();) {
-    std::size_t j = i;
-    while (j < faces.size() && faces[j] == faces[i]) ++j;
-    boundary += j - i == 1;
-    i = j;
-  }
+  const std::size_t boundary = torus_boundary_faces(torus).size();
   m.surface_faces = boundary * cells;
   return m;
 }

@@ -22,6 +22,19 @@ struct PeriodicTets {
   std::vector<std::array<std::array<std::int8_t, 3>, 4>> offsets;
 };
 
+// A face of one tetrahedron of a torus mesh: its corners (vertex, whole periods) sorted and
+// translated so that the first has offset 0, so that the two tets sharing a face give equal
+// corners; `skip` is the tet's corner opposite the face.
+struct TorusFace {
+  std::array<std::pair<std::int32_t, std::array<int, 3>>, 3> corners;
+  std::size_t tet = 0;
+  int skip = 0;
+};
+
+// The faces that belong to one tetrahedron only: the boundary of the torus mesh (the solid's
+// surface), sorted by corners.
+std::vector<TorusFace> torus_boundary_faces(const PeriodicTets& t);
+
 // Node `slave` is node `master` moved by `translation` (output units): the pair a periodic
 // boundary condition ties (u_slave = u_master + E translation).
 struct PeriodicPair {

@@ -34,45 +34,18 @@ Off offset_of(const PeriodicTets& t, std::size_t i, int q) {
   return {t.offsets[i][q][0], t.offsets[i][q][1], t.offsets[i][q][2]};
 }
 Surface torus_surface(const PeriodicTets& t) {
-  struct Face {
-    std::array<std::pair<std::int32_t, Off>, 3> c;
-    std::size_t tet = 0;
-    int skip = 0;
-    bool operator<(const Face& o) const { return c < o.c; }
-    bool operator==(const Face& o) const { return c == o.c; }
-  };
-  std::vector<Face> faces;
-  faces.reserve(4 * t.tets.size());
-  for (std::size_t i = 0; i < t.tets.size(); ++i)
-    for (int skip = 0; skip < 4; ++skip) {
-      Face f;
-      f.tet = i, f.skip = skip;
-      int k = 0;
-      for (int q = 0; q < 4; ++q)
-        if (q != skip) f.c[std::size_t(k++)] = {t.tets[i][q], offset_of(t, i, q)};
-      std::sort(f.c.begin(), f.c.end());
-      const Off base = f.c[0].second;
-      for (auto& [v, o] : f.c)
-        for (int a = 0; a < 3; ++a) o[a] -= base[a];
-      faces.push_back(f);
-    }
-  std::sort(faces.begin(), faces.end());
   Surface s;
   s.vertex.assign(t.vertices.size(), 0);
   s.face.assign(t.tets.size(), 0);
-  for (std::size_t i = 0; i < faces.size();) {
-    std::size_t j = i;
-    while (j < faces.size() && faces[j] == faces[i]) ++j;
-    if (j - i == 1) {
-      const Face& f = faces[i];
-      for (const auto& [v, o] : f.c) s.vertex[std::size_t(v)] = 1;
-      s.face[f.tet] |= std::uint8_t(1u << f.skip);
-      for (int a = 0; a < 3; ++a)
-        for (int b = a + 1; b < 3; ++b)
-          s.edges.push_back(edge_key(f.c[std::size_t(a)].first, f.c[std::size_t(a)].second,
-                                     f.c[std::size_t(b)].first, f.c[std::size_t(b)].second));
-    }
-    i = j;
+  for (const TorusFace& f : torus_boundary_faces(t)) {
+    for (const auto& [v, o] : f.corners) s.vertex[std::size_t(v)] = 1;
+    s.face[f.tet] |= std::uint8_t(1u << f.skip);
+    for (std::size_t a = 0; a < 3; ++a)
+      for (std::size_t b = a + 1; b < 3; ++b) {
+        const auto& [u, ou] = f.corners[a];
+        const auto& [w, ow] = f.corners[b];
+        s.edges.push_back(edge_key(u, ou, w, ow));
+      }
   }
   std::sort(s.edges.begin(), s.edges.end());
   s.edges.erase(std::unique(s.edges.begin(), s.edges.end()), s.edges.end());

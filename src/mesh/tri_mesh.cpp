@@ -137,6 +137,16 @@ double mesh_volume(const TriMesh& m) {
   return s / 6.0;
 }
 
+MeshStats bounding_box(const TriMesh& m) {
+  MeshStats box;
+  if (m.vertices.empty()) return box;
+  box.min = box.max = m.vertices[0];
+  for (const Vec3& v : m.vertices)
+    for (int c = 0; c < 3; ++c)
+      box.min[c] = std::min(box.min[c], v[c]), box.max[c] = std::max(box.max[c], v[c]);
+  return box;
+}
+
 MeshStats analyze_mesh(const TriMesh& m) {
   MeshStats st;
   st.vertices = m.vertices.size();

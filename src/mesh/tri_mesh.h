@@ -51,5 +51,7 @@ double point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, con
 double mesh_volume(const TriMesh& m);
 
 MeshStats analyze_mesh(const TriMesh& m);
+// Only min and max set (analyze_mesh also counts edges, seconds on a large part).
+MeshStats bounding_box(const TriMesh& m);
 
 }  // namespace cmcsurf

@@ -26,16 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-MeshStats box_of(const TriMesh& m) {
-  MeshStats box;
-  if (m.vertices.empty()) return box;
-  box.min = box.max = m.vertices[0];
-  for (const Vec3& v : m.vertices)
-    for (int c = 0; c < 3; ++c)
-      box.min[c] = std::min(box.min[c], v[c]), box.max[c] = std::max(box.max[c], v[c]);
-  return box;
-}
-
 // Where the plane x[axis] = at crosses the mesh: one segment per triangle it cuts.
 PartSlice slice_mesh(const TriMesh& m, const MeshStats& box, int axis, double fraction) {
   PartSlice s;
@@ -67,7 +57,7 @@ PartSlice slice_mesh(const TriMesh& m, const MeshStats& box, int axis, double fr
 // The part scaled into the unit cube, with area-weighted vertex normals, coloured by height
 // from -1 (bottom) to +1 (top) on the diverging scale.
 DrawSurface unit_cube_view(const TriMesh& m) {
-  const MeshStats box = box_of(m);
+  const MeshStats box = bounding_box(m);
   const double extent =
       std::max({box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2], 1e-30});
   DrawSurface s;
@@ -274,7 +264,7 @@ PartPageMeasures measure_part_page(const TriMesh& part, std::size_t max_triangle
   m.view_triangles = m.view.triangles.size();
   m.view_seconds = seconds_since(t0);
   t0 = WallClock::now();
-  const MeshStats box = box_of(part);
+  const MeshStats box = bounding_box(part);
   m.slices = {slice_mesh(part, box, 2, 0.4), slice_mesh(part, box, 0, 0.4)};
   m.slice_seconds = seconds_since(t0);
   return m;
