@@ -3,7 +3,9 @@
 # MPI build (-DCMCSURF_MPI=ON, OpenMPI) in ./build-mpi.
 # Usage: scripts/setup.sh [--no-install]    (CMCSURF_BUILD_DIR overrides ./build,
 #        CMCSURF_MPI_BUILD_DIR ./build-mpi; CMCSURF_MPI_BUILD_DIR=none skips the MPI build;
-#        CMCSURF_WERROR=ON makes compiler warnings errors, as scripts/test.sh does)
+#        CMCSURF_WERROR=ON makes compiler warnings errors, as scripts/test.sh does;
+#        CMCSURF_CCACHE=ON installs ccache and compiles both builds through it, as
+#        scripts/test.sh does, with its CCACHE_DIR)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(cmake g++ make libcli11-dev nlohmann-json3-dev libfmt-dev libmuparser-dev
@@ -29,6 +31,10 @@ command -v npm >/dev/null || packages+=(nodejs npm)
 # chromium, the headless browser that opens report.html).
 read -r -a extra <<<"${CMCSURF_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")
+# Opt-in (scripts/test.sh, CI): ccache, through which the MPI build takes the Release build's
+# object files (all but parallel/'s have the same flags), instead of compiling them again.
+use_ccache="${CMCSURF_CCACHE:-OFF}"
+[ "$use_ccache" = OFF ] || packages+=(ccache)
 # Opt-in: CMCSURF_FUZZ_BUILD_DIR=build-fuzz adds clang, libFuzzer and clang's OpenMP and builds
 # the libFuzzer targets of fuzz/ there (docs/reliability.md, "Sanitizers and fuzzing").
 fuzz_build="${CMCSURF_FUZZ_BUILD_DIR:-none}"
@@ -50,19 +56,29 @@ if [ "${1:-}" != "--no-install" ]; then
 fi
 # CMCSURF_WERROR=ON (scripts/test.sh, CI) makes warnings errors; off for a user's build.
 werror="${CMCSURF_WERROR:-OFF}"
+launcher=()
+if [ "$use_ccache" != OFF ]; then
+  command -v ccache >/dev/null ||
+    { echo "setup: CMCSURF_CCACHE=$use_ccache needs ccache (apt-get install ccache)" >&2; exit 2; }
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
 build="${CMCSURF_BUILD_DIR:-build}"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_WERROR="$werror" >/dev/null
+start=$SECONDS
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_WERROR="$werror" "${launcher[@]}" \
+  >/dev/null
 cmake --build "$build" -j "$(nproc)"
-echo "setup: built $build/cmcsurf"
+echo "setup: built $build/cmcsurf ($((SECONDS - start)) s)"
 mpi_build="${CMCSURF_MPI_BUILD_DIR:-build-mpi}"
 if [ "$mpi_build" != none ]; then
   # CMCSURF_CHECK_LAYERS=ON (scripts/test.sh, CI): its layers as shared libraries linked with
   # -Wl,--no-undefined, so a call up the layers of src/layers.txt fails to link.
+  start=$SECONDS
   cmake -S . -B "$mpi_build" -DCMAKE_BUILD_TYPE=Release -DCMCSURF_MPI=ON \
         -DCMCSURF_BUILD_BENCH=OFF -DCMCSURF_WERROR="$werror" \
-        -DCMCSURF_CHECK_LAYERS="${CMCSURF_CHECK_LAYERS:-OFF}" >/dev/null
+        -DCMCSURF_CHECK_LAYERS="${CMCSURF_CHECK_LAYERS:-OFF}" "${launcher[@]}" >/dev/null
   cmake --build "$mpi_build" -j "$(nproc)" --target cmcsurf cmcsurf_mpi_tests
-  echo "setup: built $mpi_build/cmcsurf (MPI: mpirun -np P $mpi_build/cmcsurf run ...)"
+  echo "setup: built $mpi_build/cmcsurf ($((SECONDS - start)) s; MPI: mpirun -np P" \
+       "$mpi_build/cmcsurf run ...)"
 fi
 if [ "$fuzz_build" != none ]; then
   cmake -S . -B "$fuzz_build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
