@@ -51,9 +51,10 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
                               kDefaultVolumeMeshSize));
   app->add_option("--size-max", o.size_max, "Longest edge, output units (as --size)");
   app->add_option("--size-min", o.size_min,
-                  "Shortest edge wanted, output units: not enforced (CGAL 5.5 has no lower "
-                  "bound); FILE.json says whether the mesh meets it (edge_length.size_min_met) "
-                  "and counts the edges below it");
+                  "Shortest edge, output units: shorter edges are collapsed after the flat cut "
+                  "where the surface (within --facet-distance), the faces and the quality allow; "
+                  "FILE.json says whether the mesh meets it (edge_length.size_min_met) and counts "
+                  "the edges left below it");
   app->add_option("--facet-distance", o.facet_distance,
                   fmt::format("Surface facets within this of phi = 1/2, output units (default "
                               "{:g} of the longest edge)", kDefaultFacetDistanceShare));
@@ -111,8 +112,9 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
               if (e["below_size_min"].get<long>() > 0)
                 std::cerr << fmt::format(
                     "note: {} of {} edges are shorter than --size-min ({} on the surface, {} on "
-                    "the cut faces; the shortest {:.3g} {}): CGAL 5.5 has no lower size bound; "
-                    "the mesh is kept, FILE.json counts them (edge_length.size_min_met false)\n",
+                    "the cut faces; the shortest {:.3g} {}): their collapse would have moved "
+                    "the surface or a face or spoilt a tet; the mesh is kept, FILE.json counts "
+                    "them (edge_length.size_min_met false, sizing.collapses_refused)\n",
                     e["below_size_min"].get<long>(), r["edges"].get<long>(),
                     e["below_size_min_on_surface"].get<long>(),
                     e["below_size_min_on_cut"].get<long>(), e["min"].get<double>(), p.units);

@@ -271,6 +271,142 @@ void snap_to_cell_faces(PeriodicTets& t, int axis, double snap, CellFaceCut& sta
 
 }  // namespace
 
+OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
+                                                  double min_edge, double max_edge) {
+  OneSidedFaceVertices s;
+  std::vector<std::vector<std::pair<std::size_t, int>>> incident(t.vertices.size());
+  for (std::size_t i = 0; i < t.tets.size(); ++i)
+    for (int q = 0; q < 4; ++q) incident[std::size_t(t.tets[i][q])].push_back({i, q});
+  auto corner = [&](std::size_t i, int q) {
+    return position(t, {t.tets[i][q], {t.offsets[i][q][0], t.offsets[i][q][1],
+                                       t.offsets[i][q][2]}});
+  };
+  auto volume = [&](std::size_t i) {
+    return tet_volume(corner(i, 0), corner(i, 1), corner(i, 2), corner(i, 3));
+  };
+  // The faces v is on (bits), and the cell around it each incident tet lies in: bit a set
+  // when the tet is below face a (v on the upper plane of the tet's cell). After the cut every
+  // tet lies in one cell.
+  auto planes_of = [&](std::size_t v) {
+    unsigned planes = 0;
+    for (int a = 0; a < 3; ++a) planes |= (t.vertices[v][a] == 0.0 ? 1u : 0u) << a;
+    return planes;
+  };
+  auto cell_of = [&](std::size_t i, int q, unsigned planes) {
+    unsigned cell = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (!(planes & (1u << a))) continue;
+      double c = 0.0;
+      for (int r = 0; r < 4; ++r) c += 0.25 * corner(i, r)[a];
+      cell |= unsigned(t.offsets[i][q][a] - int(std::floor(c)) == 1) << a;
+    }
+    return cell;
+  };
+  auto all_cells = [](unsigned planes) {
+    unsigned want = 0;
+    for (unsigned cell = 0; cell < 8; ++cell) want |= (cell & ~planes) ? 0u : 1u << cell;
+    return want;
+  };
+  // An edge of v inside [min_edge, max_edge] (0: no bound) must stay inside.
+  auto edges_inside = [&](std::size_t v) {
+    std::vector<char> in;
+    for (const auto& [i, q] : incident[v])
+      for (int r = 0; r < 4; ++r) {
+        if (r == q) continue;
+        const Vec3 d = sub(corner(i, r), corner(i, q));
+        const double l = std::sqrt(dot(d, d));
+        in.push_back((min_edge <= 0 || l >= min_edge) && (max_edge <= 0 || l <= max_edge));
+      }
+    return in;
+  };
+  // Off face a into the cell of all v's tets (side 0: above it, 1: below).
+  auto lift = [&](std::size_t v, int a, unsigned side) {
+    double shortest = INFINITY;
+    std::vector<double> before;
+    for (const auto& [i, q] : incident[v]) {
+      before.push_back(volume(i));
+      for (int r = 0; r < 4; ++r)
+        if (r != q) {
+          const Vec3 d = sub(corner(i, r), corner(i, q));
+          shortest = std::min(shortest, std::sqrt(dot(d, d)));
+        }
+    }
+    const std::vector<char> inside = edges_inside(v);
+    const Vec3 p0 = t.vertices[v];
+    const int down = side == 0 ? 0 : 1;
+    for (double h = std::min(kOneSidedLift * shortest, max_lift); h > 1e-9; h *= 0.5) {
+      t.vertices[v][a] = side == 0 ? h : 1.0 - h;  // below: one period down
+      for (const auto& [i, q] : incident[v])
+        t.offsets[i][q][a] = std::int8_t(t.offsets[i][q][a] - down);
+      bool ok = true;
+      for (std::size_t k = 0; k < incident[v].size() && ok; ++k)
+        ok = volume(incident[v][k].first) >= 0.5 * before[k];
+      const std::vector<char> now = edges_inside(v);
+      for (std::size_t k = 0; k < now.size() && ok; ++k) ok = now[k] || !inside[k];
+      if (ok) {
+        s.max_lift = std::max(s.max_lift, h);
+        return true;
+      }
+      t.vertices[v] = p0;
+      for (const auto& [i, q] : incident[v])
+        t.offsets[i][q][a] = std::int8_t(t.offsets[i][q][a] + down);
+    }
+    return false;
+  };
+  for (std::size_t v = 0; v < t.vertices.size(); ++v) {  // grows by the copies below
+    const unsigned planes = planes_of(v);
+    if (!planes || incident[v].empty()) continue;
+    unsigned cells = 0;
+    for (const auto& [i, q] : incident[v]) cells |= 1u << cell_of(i, q, planes);
+    if (cells == all_cells(planes)) continue;
+    // Tets in cells that meet only along a line or at a point (diagonally): one copy of v per
+    // group of cells joined across faces (v pinches the solid there), each lifted on its own
+    // when the loop reaches it.
+    std::array<int, 8> group{};
+    for (unsigned c = 0; c < 8; ++c) group[c] = int(c);
+    for (int sweep = 0; sweep < 3; ++sweep)
+      for (unsigned c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a) {
+          const unsigned d = c ^ (1u << a);
+          if ((cells >> c & 1u) && (cells >> d & 1u) && (planes >> a & 1u))
+            group[c] = group[d] = std::min(group[c], group[d]);
+        }
+    const int first = group[cell_of(incident[v][0].first, incident[v][0].second, planes)];
+    std::array<std::int32_t, 8> copy;
+    copy.fill(-1);
+    std::vector<std::pair<std::size_t, int>> kept;
+    for (const auto& [i, q] : incident[v]) {
+      const int g = group[cell_of(i, q, planes)];
+      if (g == first) {
+        kept.push_back({i, q});
+        continue;
+      }
+      if (copy[std::size_t(g)] < 0) {
+        copy[std::size_t(g)] = std::int32_t(t.vertices.size());
+        t.vertices.push_back(t.vertices[v]);
+        incident.emplace_back();
+        ++s.split;
+      }
+      t.tets[i][q] = copy[std::size_t(g)];
+      incident[std::size_t(copy[std::size_t(g)])].push_back({i, q});
+    }
+    incident[v] = std::move(kept);
+    for (int a = 0; a < 3; ++a) {
+      if (!(planes & (1u << a))) continue;
+      unsigned sides = 0;
+      for (const auto& [i, q] : incident[v]) sides |= 1u << (cell_of(i, q, planes) >> a & 1u);
+      if (sides == 3u) continue;
+      ++s.found;
+      s.lifted += lift(v, a, sides == 1u ? 0u : 1u);
+    }
+    const unsigned left = planes_of(v);
+    unsigned now = 0;
+    for (const auto& [i, q] : incident[v]) now |= 1u << cell_of(i, q, left);
+    s.left += left && now != all_cells(left);
+  }
+  return s;
+}
+
 CellFaceCut cut_at_cell_faces(PeriodicTets& t, double snap) {
   if (t.tets.size() != t.offsets.size())
     throw std::invalid_argument("cut_at_cell_faces: one offset set per tet");

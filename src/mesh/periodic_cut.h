@@ -33,4 +33,26 @@ struct CellFaceCut {
 // tet holding that edge. Tets stay positively oriented.
 CellFaceCut cut_at_cell_faces(PeriodicTets& t, double snap = kDefaultCellFaceSnap);
 
+// A vertex on a cell face whose tets all lie on one side of it (where the solid's surface
+// touches the face at a vertex the snap put there) has one image in the box: a node on one
+// plane with no partner on the opposite one. Each is moved off the face into its tets' side by
+// min(kOneSidedLift of its shortest edge, max_lift), halved while an incident tet would lose
+// over half its volume or an edge of it would leave [min_edge, max_edge] (0: no bound) having
+// been inside. A vertex on two or three faces whose tets lie in cells that meet only along a
+// line or at a point (diagonally: it pinches the solid) is first split into one vertex per
+// group of cells joined across faces, each then lifted so.
+inline constexpr double kOneSidedLift = 0.05;
+struct OneSidedFaceVertices {
+  std::size_t found = 0;   // vertex-face incidences (a vertex on two faces counts twice)
+  std::size_t lifted = 0;  // moved off the face
+  std::size_t split = 0;   // copies made of pinching vertices (diagonal cells)
+  double max_lift = 0.0;   // unit cells
+  // Left on a face with tets in some of the cells around them but not all and on both sides
+  // of each face (in an L around an edge of the box), or where a lift would flatten a tet:
+  // some of their images in the box lack a partner.
+  std::size_t left = 0;
+};
+OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
+                                                  double min_edge = 0.0, double max_edge = 0.0);
+
 }  // namespace cmcsurf

@@ -59,6 +59,33 @@ void box_faces(const TetMesh& m, const std::vector<FaceKey>& boundary, Periodic 
       s.plane_nodes[2 * a + 1] += on(std::int64_t(v), a, 1);
       s.nodes_outside_box += m.nodes[v][a] < 0.0 || m.nodes[v][a] > m.period[a];
     }
+  // A node on a plane is paired across it when its group (a master and its slaves, the images
+  // of one point) holds the node one period away along that axis alone: the partner a user
+  // tying the plane by coordinates looks for.
+  std::unordered_map<std::int64_t, std::vector<std::int64_t>> groups;
+  for (const PeriodicPair& p : m.pairs) {
+    auto& g = groups[p.master];
+    if (g.empty()) g.push_back(p.master);
+    g.push_back(p.slave);
+  }
+  std::vector<char> in_group(m.nodes.size(), 0);
+  for (const auto& [master, g] : groups)
+    for (std::int64_t v : g) {
+      in_group[std::size_t(v)] = 1;
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+          if (!on(v, a, side)) continue;
+          bool found = false;
+          for (std::int64_t w : g)
+            found = found || (on(w, a, 1 - side) && m.nodes[w][(a + 1) % 3] ==
+                                                        m.nodes[v][(a + 1) % 3] &&
+                              m.nodes[w][(a + 2) % 3] == m.nodes[v][(a + 2) % 3]);
+          s.unpaired_plane_nodes += !found;
+        }
+    }
+  for (std::size_t v = 0; v < m.nodes.size(); ++v)
+    for (int a = 0; a < 3 && !in_group[v]; ++a)
+      s.unpaired_plane_nodes += on(std::int64_t(v), a, 0) + on(std::int64_t(v), a, 1);
   // Per plane, each face as its nodes' two other coordinates, sorted: opposite planes must hold
   // the same list.
   using Flat = std::array<std::array<double, 2>, 3>;
@@ -425,6 +452,7 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
         {"periodic_faces", s.periodic_faces},
         {"unmatched_boundary_faces", s.unmatched_faces},
         {"unpaired_nodes", s.unpaired_nodes},
+        {"unpaired_plane_nodes", s.unpaired_plane_nodes},
         {"pair_mismatch", s.pair_mismatch},
         {"periodic_faces_off_plane", s.periodic_faces_off_plane},
         {"nodes_outside_box", s.nodes_outside_box},

@@ -74,6 +74,10 @@ struct TetMeshStats {
   std::size_t periodic_faces = 0;            // the cut, matched in pairs one period apart
   std::size_t unmatched_faces = 0;           // boundary faces neither of the above
   std::size_t unpaired_nodes = 0;            // on a periodic face but in no pair
+  // Nodes on a plane of the box (x = 0 or x = period_x, ...) whose image one period away along
+  // that axis is not a node paired with them: a user tying the planes by coordinates finds no
+  // partner for them (a node on two planes counts once per plane).
+  std::size_t unpaired_plane_nodes = 0;
   double pair_mismatch = 0.0;  // max |x_slave - x_master - translation| / max period
   double min_dihedral_deg = 0.0, max_dihedral_deg = 0.0;
   double max_radius_edge = 0.0, mean_radius_edge = 0.0;  // circumradius / shortest edge

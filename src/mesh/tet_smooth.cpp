@@ -82,7 +82,8 @@ double tet_min_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const V
   return smallest;
 }
 
-SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, double max_edge) {
+SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, double max_edge,
+                               double min_edge) {
   SliverSmoothing s;
   const std::size_t nv = t.vertices.size();
   std::size_t nt = t.tets.size();
@@ -158,19 +159,22 @@ SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, d
           for (int a = 0; a < 3; ++a) lap[a] += e[a];
           lap_w += 1.0;
         }
-      // No edge of the vertex may grow past the size asked for (or past its longest now).
+      // No edge of the vertex may grow past the size asked for (or past its longest now), nor
+      // shrink below the smallest size (or its shortest now).
       const double reach = std::max(max_edge, lmax);
+      const double close = std::min(min_edge, lmin);
       auto worst = [&](const Vec3& p, std::size_t* at) {
         for (int a = 0; a < 3; ++a)
           if (movable[a] && !(p[a] > 0.0 && p[a] < 1.0)) return -1.0;
         double m = 180.0;
         for (const auto& [i, q] : inc) {
           for (int r = 0; r < 4; ++r) {
-            if (r == q || max_edge <= 0.0) continue;
+            if (r == q || (max_edge <= 0.0 && min_edge <= 0.0)) continue;
             Vec3 e;
             for (int a = 0; a < 3; ++a)
               e[a] = corner_position(t, i, r)[a] - t.offsets[i][q][a] - p[a];
-            if (dot(e, e) > reach * reach) return -1.0;
+            if (max_edge > 0.0 && dot(e, e) > reach * reach) return -1.0;
+            if (min_edge > 0.0 && dot(e, e) < close * close) return -1.0;
           }
           const double qi = quality_with(i, v, p);
           if (qi < m) m = qi, *at = i;

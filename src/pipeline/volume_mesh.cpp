@@ -205,10 +205,23 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   CellFaceCut cut;
   if (p.flat_faces) cut = cut_at_cell_faces(torus, p.cut_snap);
   const double cut_seconds = seconds_since(t2);
+  // The sizes asked for: short edges collapsed, long ones split (on the torus, so both faces
+  // of the box change alike); then the smoothing, which keeps edges within them.
+  const auto t6 = WallClock::now();
+  EdgeSizing sizing;
+  if (p.flat_faces) sizing = enforce_edge_sizes(torus, {p.size_min, p.size_max, p.facet_distance});
+  const double size_seconds = seconds_since(t6);
   const auto t5 = WallClock::now();
   SliverSmoothing smoothing;
   const bool smooth = p.flat_faces && p.sliver_target_deg > 0.0;
-  if (smooth) smoothing = smooth_slivers(torus, p.sliver_target_deg, kSliverSweeps, p.size_max);
+  if (smooth)
+    smoothing =
+        smooth_slivers(torus, p.sliver_target_deg, kSliverSweeps, p.size_max, p.size_min);
+  // Last, so that nothing puts a vertex back on a face: one-sided face vertices off it.
+  OneSidedFaceVertices lifted;
+  if (p.flat_faces)
+    lifted = lift_one_sided_face_vertices(torus, kOneSidedLiftFacetShare * p.facet_distance,
+                                          p.size_min, p.size_max);
   const double smooth_seconds = seconds_since(t5);
   const auto t4 = WallClock::now();
   out.mesh = unfold_periodic_tets(torus, p.tiles, p.cell_size);
@@ -248,6 +261,11 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                 {"split_tets", cut.split_tets},
                 {"added_vertices", cut.cut_vertices},
                 {"degenerate_pieces", cut.degenerate},
+                {"one_sided_face_vertices", lifted.found},
+                {"lifted_vertices", lifted.lifted},
+                {"split_face_vertices", lifted.split},
+                {"max_lift", lifted.max_lift * L},
+                {"face_vertices_left_unpaired", lifted.left},
                 {"units", p.units}};
   else
     r["cut"] = {{"faces", "fundamental domain"}};
@@ -268,6 +286,25 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                       {"peeled_volume", smoothing.peeled_volume * L * L * L},
                       {"note", "per cell (the torus mesh after the cut); surface vertices fixed"}};
   }
+  if (p.flat_faces)
+    r["sizing"] = {{"size_min", p.size_min * L},
+                   {"size_max", p.size_max * L},
+                   {"below_size_min_before", sizing.below_min_before},
+                   {"below_size_min_after", sizing.below_min_after},
+                   {"above_size_max_before", sizing.above_max_before},
+                   {"above_size_max_after", sizing.above_max_after},
+                   {"collapsed_edges", sizing.collapsed},
+                   {"split_edges", sizing.split},
+                   {"collapses_refused",
+                    {{"fixed_vertex", sizing.refused_fixed},
+                     {"topology", sizing.refused_topology},
+                     {"quality", sizing.refused_quality},
+                     {"length", sizing.refused_length},
+                     {"surface_distance", sizing.refused_surface}}},
+                   {"splits_refused", sizing.split_refused},
+                   {"units", p.units},
+                   {"note", "per cell (the torus mesh after the cut, before the smoothing); "
+                            "edge_length counts the block's edges after it"}};
   r["criteria"] = {{"size_max", p.size_max * L},
                    {"size_min", p.size_min * L},
                    {"facet_distance", p.facet_distance * L},
@@ -279,8 +316,14 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                    {"exude_sliver_bound_deg", c.exude_bound_deg},
                    {"repeatable", c.repeatable},
                    {"units", p.units},
-                   {"size_min_note", "CGAL 5.5 has no lower size bound: not enforced; "
-                                     "edge_length.size_min_met says whether the mesh meets it"}};
+                   {"size_min_note",
+                    p.flat_faces ? "CGAL 5.5 has no lower size bound: edges below it are "
+                                   "collapsed after the cut where the surface, the faces and "
+                                   "the quality allow (sizing); edge_length.size_min_met says "
+                                   "whether the mesh meets it"
+                                 : "not enforced with --cut fundamental (CGAL's tets "
+                                   "untouched); edge_length.size_min_met says whether the "
+                                   "mesh meets it"}};
   r["torus"] = {{"vertices", torus_vertices}, {"tets", torus_tets},
                 {"vertices_split", torus.vertices.size()}, {"tets_split", torus.tets.size()}};
   // The pairs by translation, in block periods.
@@ -305,6 +348,7 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
   r["seconds"] = {{"level_set", level_set_seconds},
                   {"mesh", mesh_seconds},
                   {"cut", cut_seconds},
+                  {"size", size_seconds},
                   {"smooth", smooth_seconds},
                   {"unfold", unfold_seconds},
                   {"analyze", analyze_seconds}};

@@ -15,6 +15,7 @@
 #include "mesh/periodic_mesher.h"
 #include "mesh/scaffold.h"
 #include "mesh/tet_mesh.h"
+#include "mesh/tet_sizing.h"
 #include "mesh/tet_smooth.h"
 
 namespace cmcsurf {
@@ -40,6 +41,9 @@ struct VolumeMeshOptions {
 // 64^3 gyroid network cell in ~6 s, volume within 0.25 % (docs/volume_mesh.md).
 inline constexpr double kDefaultVolumeMeshSize = 0.08;
 inline constexpr double kDefaultFacetDistanceShare = 1.0 / 40;
+// A one-sided face vertex (mesh/periodic_cut.h) moves off the face by at most this share of
+// the facet distance, so the surface stays within about 1.25 times it there.
+inline constexpr double kOneSidedLiftFacetShare = 0.25;
 // Tiles per axis: each tile copies the cell's tets (memory and file size grow with the count).
 inline constexpr int kMaxVolumeMeshTiles = 8;
 
@@ -50,7 +54,7 @@ struct VolumeMeshParams {
   std::array<int, 3> tiles{1, 1, 1};
   double cell_size = 1.0;
   std::string units = "mm";
-  double size_min = 0.0;     // unit cells; 0: none (reported, not enforced: see the .cpp)
+  double size_min = 0.0;     // unit cells; 0: none (flat cut: short edges collapsed)
   double size_max = kDefaultVolumeMeshSize;  // unit cells
   double facet_distance = kDefaultVolumeMeshSize * kDefaultFacetDistanceShare;  // unit cells
   // The cut faces: flat (the torus mesh split at the cell faces, vertices within cut_snap of
