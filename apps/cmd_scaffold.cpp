@@ -30,24 +30,38 @@ struct ScaffoldCommand {
   bool quiet = false;
 };
 
-// One line every few seconds while a large part is decimated.
+// One line every few seconds while a large part is decimated: the triangles left and, with a
+// budget, the share of its collapses done (with a tolerance alone their number is not known
+// beforehand: the share of the input's triangles removed).
 DecimateProgress decimate_progress(const ScaffoldCommand& cmd) {
   if (cmd.quiet) return {};
   auto last = std::make_shared<double>(-1.0);
+  auto before = std::make_shared<std::size_t>(0);
   auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(
       std::chrono::steady_clock::now());
-  return [last, t0](DecimateStage stage, int attempt, std::size_t triangles) {
+  const std::size_t budget = std::size_t(std::max(0L, cmd.options.max_triangles));
+  return [last, before, t0, budget](DecimateStage stage, int attempt, std::size_t triangles) {
     const double now = seconds_since(*t0);
+    if (stage == DecimateStage::kCollapse && attempt > 0) *before = triangles;
     if (attempt == 0 && now - *last < 2.0) return;
     *last = now;
-    if (stage == DecimateStage::kCollapse && attempt > 0)
+    if (stage == DecimateStage::kCollapse && attempt > 0) {
       std::cerr << fmt::format("decimating {} triangles (attempt {}, {:.0f} s)\n", triangles,
                                attempt, now);
-    else if (stage == DecimateStage::kCollapse)
-      std::cerr << fmt::format("  {} triangles left ({:.0f} s)\n", triangles, now);
-    else
+    } else if (stage == DecimateStage::kCollapse) {
+      const double removed = double(*before) - double(std::min(triangles, *before));
+      const std::string share =
+          budget > 0 && budget < *before
+              ? fmt::format("{:.0f} % of the collapses to {}", 100.0 * removed /
+                                                                   double(*before - budget),
+                            budget)
+              : fmt::format("{:.0f} % of the triangles removed",
+                            100.0 * removed / double(std::max<std::size_t>(*before, 1)));
+      std::cerr << fmt::format("  {} triangles left, {} ({:.0f} s)\n", triangles, share, now);
+    } else {
       std::cerr << fmt::format("  measuring the distance of the {} triangles to the part "
                                "({:.0f} s)\n", triangles, now);
+    }
   };
 }
 
