@@ -181,21 +181,29 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
                           (*it)["pore_size"]["min"].get<double>());
     std::cerr << line << "\n";
   }
+  // A band without lattice nodes has null numbers in FILE.json (NaN written): "nan" here.
+  auto band = [](const nlohmann::json& b, const char* key) {
+    return b[key].is_number() ? b[key].get<double>() : NAN;
+  };
   if (r.contains("graded") && r["graded"].value("by", "axis") == "surface") {
-    std::string line = fmt::format("porosity by depth ({}), target | lattice nodes:", units);
+    std::string line = fmt::format("porosity by depth ({}), target | measured:", units);
     for (const auto& b : r["graded"]["profile"]) {
       const std::string to =
           b["depth_to"].is_null() ? "core" : fmt::format("{:g}", b["depth_to"].get<double>());
       line += fmt::format(" {:g}-{}: {:.3f} | {:.3f};", b["depth_from"].get<double>(), to,
-                          b["porosity_target"].get<double>(), b["porosity_nodes"].get<double>());
+                          band(b, "porosity_target"), band(b, "porosity_nodes"));
     }
     line.pop_back();
     std::cerr << line << "\n";
-  } else if (r.contains("graded")) {
-    std::string line = "porosity per cell along " + r["graded"]["axis"].get<std::string>() + ":";
-    for (const auto& b : r["graded"]["profile"])
-      line += fmt::format(" {:.3f}", b["porosity_nodes"].get<double>());
-    std::cerr << line << " (lattice nodes)\n";
+  } else if (r.contains("graded") || r.contains("graded_cell_size")) {
+    const nlohmann::json& g = r.contains("graded") ? r["graded"] : r["graded_cell_size"];
+    std::string line = "porosity per cell along " + g["axis"].get<std::string>() +
+                       ", target | measured:";
+    for (const auto& b : g["profile"])
+      line += fmt::format(" {:.3f} | {:.3f};", band(b, "porosity_target"),
+                          band(b, "porosity_nodes"));
+    line.pop_back();
+    std::cerr << line << "\n";
   }
   if (r.contains("compare_nodal") && r["compare_nodal"]["nodal"].contains("error")) {
     std::cerr << "--compare-nodal: the nodal twin is not a valid part: "
@@ -243,7 +251,7 @@ void print_summary(const ScaffoldCommand& cmd, const ScaffoldRun& run) {
                                : (v[0].get<double>() + v[1].get<double>() +
                                   v[2].get<double>()) / 3.0;
       };
-      std::string text = fmt::format("{:<13} rel. density {:.4f}", name,
+      std::string text = fmt::format("{:<13} solid fraction {:.4f}", name,
                                      p["relative_density"].get<double>());
       if (p.contains("youngs_modulus"))
         text += fmt::format("; E/E_s {:.4g} (min {:.4g}, max {:.4g}), G/E_s {:.4g}, nu {:.3g}, "

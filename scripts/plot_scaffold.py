@@ -6,7 +6,9 @@ usage: plot_scaffold.py PART.stl OUT.png
 (a), (b): the part cut by the planes z and x at 0.4 of the box (the binary STL's
 triangles intersected with the plane, drawn as segments; the solid is on one side of them),
 (c): the wall and pore distributions of PART.stl.json (local thickness on the unit cell,
-`morphometry`; a graded part has one per member, `morphometry.members`, drawn each).
+`morphometry`; a graded part has one per member, `morphometry.members`, drawn each),
+(d), a graded part only: its porosity profile, target and measured per band along the axis or
+by depth below the shape's surface (`graded.profile`, or `graded_cell_size.profile`).
 Draws what cmcsurf computed; computes nothing of its own beyond the plane cuts. Exit code 3
 when matplotlib or numpy is missing.
 """
@@ -65,6 +67,38 @@ def distributions(m):
             if "wall_thickness" in c and "pore_size" in c]
 
 
+def profile(report):
+    """(bands, by depth, where) of a graded part's porosity profile, or None."""
+    for key in ("graded", "graded_cell_size"):
+        g = report.get(key)
+        if isinstance(g, dict) and g.get("profile"):
+            depth = g.get("by") == "surface"
+            return g["profile"], depth, ("by depth" if depth else f"along {g['axis']}")
+    return None
+
+
+def draw_profile(ax, bands, by_depth, where, units):
+    """Target (line) and measured (dots) porosity at each band's middle; the core (a depth
+    band without an end) one band wide past the last."""
+    mids, width = [], 0.0
+    for b in bands:
+        lo = b["depth_from"] if by_depth else b["from"]
+        hi = b["depth_to"] if by_depth else b["to"]
+        hi = lo + width if hi is None else hi
+        width = hi - lo
+        mids.append(0.5 * (lo + hi))
+    nan = float("nan")
+    target = [nan if b["porosity_target"] is None else b["porosity_target"] for b in bands]
+    nodes = [nan if b["porosity_nodes"] is None else b["porosity_nodes"] for b in bands]
+    ax.plot(mids, target, "-", color="C0", label="target")
+    ax.plot(mids, nodes, "o", color="C1", label="measured (lattice nodes)")
+    ax.set_xlabel(f"depth below the surface ({units}); last: the core" if by_depth
+                  else f"position {where} ({units})")
+    ax.set_ylabel("porosity")
+    ax.set_title(f"porosity {where}")
+    ax.legend(fontsize="small")
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -74,7 +108,8 @@ def main():
     tri = read_stl(part)
     lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
     units = report["units"] if "units" in report else report["design"]["units"]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+    graded = profile(report)
+    fig, axes = plt.subplots(1, 4 if graded else 3, figsize=(20 if graded else 15, 5))
     names = "xyz"
     for ax, axis in zip(axes[:2], (2, 0)):
         mid = lo[axis] + 0.4 * (hi[axis] - lo[axis])  # off the lattice's mirror planes
@@ -95,9 +130,11 @@ def main():
             ax.stairs(np.array(s["histogram"]), edges, color=color, linestyle=style,
                       label=f"{label}{name}: mean {s['mean']:.3g}, min {s['min']:.3g} {units}")
     ax.set_xlabel(f"local thickness ({units})")
-    ax.set_ylabel("fraction of the phase")
+    ax.set_ylabel("fraction of the wall or pore volume")
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize="small")
+    if graded:
+        draw_profile(axes[3], *graded, units)
     d = report["design"]
     if "graded" in report:
         g = report["graded"]

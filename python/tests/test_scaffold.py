@@ -4,6 +4,8 @@ import json
 import math
 import os
 import signal
+import subprocess
+import sys
 import threading
 import time
 
@@ -11,7 +13,7 @@ import numpy as np
 import pytest
 
 import cmcsurf
-from conftest import run_cli
+from conftest import ROOT, run_cli
 
 # A small part of a few cells at grid 32 (one member, cached and shared by both sides).
 CLI_ARGS = ["--surface", "G", "--porosity", "0.7", "--solid", "network", "--cell-size", "2",
@@ -54,6 +56,56 @@ def test_scaffold_returns_the_cli_numbers(tmp_path, cache):
     # One library call on the same member with one thread: the same bits.
     assert {k: v for k, v in a.items() if v != b[k]} == {}
     assert abs(py["porosity"] - 0.7) <= 1e-3
+    assert (tmp_path / "py.stl").stat().st_size == (tmp_path / "cli.stl").stat().st_size
+
+
+# Graded fills at grid 16 in paper mode, as tests/cli/scaffold_graded_fill.sh makes them:
+# two network members (solid fraction 0.3 and 0.5: each cell's wall and pore measures are most
+# of the time) shared by both tests and both sides, undecimated (tolerance 0), without a page:
+# about 4 s of CPU a side.
+GRADED_CLI = ["--paper", "--surface", "G", "--grid", "16", "--cell-size", "1", "--units", "mm",
+              "--porosity", "0.5:0.7", "--graded-members", "2", "--tolerance", "0",
+              "--threads", "1", "--quiet", "--no-page"]
+GRADED_KWARGS = dict(paper=True, surface="G", grid=16, cell_size=1, units="mm",
+                     porosity=(0.5, 0.7), graded_members=2, tolerance=0, threads=1,
+                     no_page=True)
+
+
+@pytest.fixture(scope="module")
+def cylinder(tmp_path_factory):
+    """A cylinder 4 mm across and 3 mm high (64 sides), the CLI test's smaller one."""
+    path = tmp_path_factory.mktemp("shape") / "cyl4.stl"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "cylinder_stl.py"), str(path), "4",
+                    "3", "64"], check=True)
+    return path
+
+
+@pytest.mark.parametrize("how", ["depth", "axis"])
+def test_graded_scaffold_returns_the_cli_numbers(tmp_path, cache, cylinder, how):
+    """A network graded by depth below a shape's surface, and one along z in a box: scaffold()
+    writes and returns the command line's FILE.json, every number to the bit (one library call
+    on the same cached members with one thread), the profile and its notes included."""
+    if how == "depth":
+        cli_extra = ["--grade-by", "surface", "--grade-depth", "1", "--shape", str(cylinder)]
+        py_extra = dict(grade_by="surface", grade_depth=1, shape=str(cylinder))
+    else:
+        cli_extra = ["--axis", "z", "--size", "2x2x3"]
+        py_extra = dict(axis="z", size=(2, 2, 3))
+    run_cli("scaffold", *GRADED_CLI, *cli_extra, "--cache", str(cache), "--out",
+            str(tmp_path / "cli.stl"))
+    cli = json.loads((tmp_path / "cli.stl.json").read_text())
+    py = cmcsurf.scaffold(tmp_path / "py.stl", cache=str(cache), **GRADED_KWARGS, **py_extra)
+    assert py == json.loads((tmp_path / "py.stl.json").read_text())  # FILE.json as written
+    a, b = numbers(cli), numbers(py)
+    assert a.keys() == b.keys()
+    assert {k: v for k, v in a.items() if v != b[k]} == {}
+    assert py["graded"] == cli["graded"]
+    g = py["graded"]
+    assert g["by"] == ("surface" if how == "depth" else "axis")
+    assert len(g["profile"]) == (5 if how == "depth" else 3)  # 4 bands and the core; 3 cells
+    assert len(g["member_volume_fractions"]) == 2
+    # The level solve meets the ramp's mean within the network's trimming tolerance.
+    assert abs(py["porosity"] - g["porosity_mean"]) <= 1e-3
     assert (tmp_path / "py.stl").stat().st_size == (tmp_path / "cli.stl").stat().st_size
 
 

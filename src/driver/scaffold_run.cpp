@@ -934,8 +934,8 @@ nlohmann::json cell_morphometry(const Field& phi, const std::string& solid, doub
   d.units = units;
   if (solid == "network") {
     if (!std::isnan(porosity) || !std::isnan(thickness))
-      throw OptionError("porosity, thickness: only for a sheet (a network is phase 1 of the "
-                        "field, at its own porosity)");
+      throw OptionError("porosity, thickness: only for a sheet (a network's solid is the run's "
+                        "own, at its solid fraction)");
     d.solid = SolidKind::kNetwork;
   } else if (solid == "sheet") {
     d.solid = SolidKind::kSheet;

@@ -274,7 +274,7 @@ nlohmann::json cell_morphometry(const Field& g, const std::function<double(doubl
   morph["method"] = "local thickness (largest inscribed ball containing each voxel) on the "
                     "periodic unit cell (the field interpolated to >= 64^3 voxels), exact "
                     "Euclidean distance transform; diameters, within one voxel; p5, p50, p95: "
-                    "percentiles over the phase's volume";
+                    "percentiles over the wall's (solid's) or the pore space's volume";
   morph["voxel"] = voxel;
   if (d.min_feature > 0) {
     morph["min_feature"] = d.min_feature;
@@ -340,7 +340,7 @@ nlohmann::json part_morphometry(const PartLattice& lat, double level, const Scaf
                 "the lattice spacing cell size / grid (every stride-th node past 64 voxels per "
                 "cell), not periodic: a wall ends where the box cuts it, a pore goes on past "
                 "the box; diameters within one voxel; p5, p50, p95: percentiles over the "
-                "phase's volume";
+                "wall's (solid's) or the pore space's volume";
   return m;
 }
 

@@ -242,13 +242,155 @@ std::string distributions_html(const nlohmann::json& report) {
   cell(m, "");
   if (m.contains("members"))
     for (const auto& c : m["members"])
-      cell(c, fmt::format(" (member at porosity {:.2f})", c.value("porosity", 0.0)));
+      cell(c, c.contains("cell_size")
+                  ? fmt::format(" (cell size {:g} {})", c.value("cell_size", 0.0), units)
+                  : fmt::format(" (cell at porosity {:.2f})", c.value("porosity", 0.0)));
   if (out.empty()) return "";
   return "<h2>Wall and pore distributions (local thickness on the unit cell)</h2>\n"
          "<div class=\"charts\" id=\"distributions\">\n" + out + "</div>\n";
 }
 
+// A graded part's profile in FILE.json: the porosity ramp's (`graded`, along an axis or by
+// depth below a shape's surface) or a graded cell size's (one porosity, `graded_cell_size`).
+struct GradedProfile {
+  std::string pointer;  // of the bands' array
+  bool by_depth = false;
+  std::string where;    // "along z", "by depth below the surface"
+};
+
+std::vector<GradedProfile> graded_profiles(const nlohmann::json& report) {
+  std::vector<GradedProfile> out;
+  for (const char* key : {"graded", "graded_cell_size"}) {
+    if (!report.contains(key) || !report[key].is_object()) continue;
+    const nlohmann::json& g = report[key];
+    if (!g.contains("profile") || !g["profile"].is_array() || g["profile"].empty()) continue;
+    const bool depth = g.value("by", std::string("axis")) == "surface";
+    const std::string axis = g.contains("axis") && g["axis"].is_string()
+                                 ? g["axis"].get<std::string>() : std::string("?");
+    out.push_back({std::string("/") + key + "/profile", depth,
+                   depth ? "by depth below the surface" : "along " + axis});
+  }
+  return out;
+}
+
+double number_or_nan(const nlohmann::json& band, const char* key) {
+  return band.contains(key) && band[key].is_number() ? band[key].get<double>() : NAN;
+}
+
+// Where each band sits on the chart's x axis (output units): an axis band's middle; a depth
+// band's middle, the core (depth_to null) drawn one band wide past the last.
+std::vector<std::array<double, 3>> band_places(const nlohmann::json& bands, bool by_depth) {
+  std::vector<std::array<double, 3>> at;  // from, middle, to
+  double width = 0.0;
+  for (const auto& b : bands) {
+    double from = number_or_nan(b, by_depth ? "depth_from" : "from");
+    double to = number_or_nan(b, by_depth ? "depth_to" : "to");
+    if (std::isnan(to)) to = from + width;
+    width = to - from;
+    at.push_back({from, 0.5 * (from + to), to});
+  }
+  return at;
+}
+
+// Target (line) and measured (dots) porosity per band: FILE.json's numbers, drawn.
+std::string profile_svg(const nlohmann::json& bands, const GradedProfile& g,
+                        const std::string& units) {
+  const auto at = band_places(bands, g.by_depth);
+  double lo = 1.0, hi = 0.0;
+  for (const auto& b : bands)
+    for (const char* key : {"porosity_target", "porosity_nodes"})
+      if (const double v = number_or_nan(b, key); !std::isnan(v)) lo = std::min(lo, v),
+                                                                   hi = std::max(hi, v);
+  if (!(hi >= lo)) return "";
+  lo = std::max(0.0, lo - 0.02), hi = std::min(1.0, hi + 0.02);
+  const double W = 480, H = 240, L = 48, R = 12, T = 26, B = 34;
+  const double x0 = at.front()[0], x1 = std::max(at.back()[2], x0 + 1e-30);
+  auto X = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
+  auto Y = [&](double y) { return T + (hi - y) / std::max(hi - lo, 1e-30) * (H - T - B); };
+  std::string line, dots;
+  int drawn = 0;
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const double target = number_or_nan(bands[i], "porosity_target"),
+                 nodes = number_or_nan(bands[i], "porosity_nodes");
+    if (!std::isnan(target))
+      line += fmt::format("{}{:.1f} {:.1f}", line.empty() ? "M" : "L", X(at[i][1]), Y(target));
+    if (!std::isnan(nodes)) {
+      dots += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"4\" fill=\"#e07b1a\"/>",
+                          X(at[i][1]), Y(nodes));
+      ++drawn;
+    }
+  }
+  const std::string x_label = g.by_depth
+                                  ? fmt::format("depth below the surface ({}); last: the core",
+                                                units)
+                                  : fmt::format("position {} ({})", g.where, units);
+  return fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"chart\" width=\"{:.0f}\" "
+      "height=\"{:.0f}\" data-title=\"porosity profile\" data-bands=\"{}\" data-drawn=\"{}\">"
+      "<text x=\"{:.0f}\" y=\"14\">porosity {}: target (line), measured (dots)</text>"
+      "<rect x=\"{:.0f}\" y=\"{:.0f}\" width=\"{:.0f}\" height=\"{:.0f}\" fill=\"none\" "
+      "stroke=\"#bbb\"/><path d=\"{}\" stroke=\"#2b5cd6\" stroke-width=\"2\" fill=\"none\"/>{}"
+      "<text x=\"{:.0f}\" y=\"{:.0f}\" text-anchor=\"end\">{}</text>"
+      "<text x=\"{:.0f}\" y=\"{:.0f}\" text-anchor=\"end\">{}</text>"
+      "<text x=\"{:.0f}\" y=\"{:.0f}\">{}</text><text x=\"{:.0f}\" y=\"{:.0f}\" "
+      "text-anchor=\"end\">{}</text><text x=\"{:.0f}\" y=\"{:.0f}\" text-anchor=\"middle\">"
+      "{}</text></svg>\n",
+      W, H, bands.size(), drawn, L, html_escape(g.where), L, T, W - L - R, H - T - B, line,
+      dots, L - 4, T + 10, format_number("{:.3f}", hi), L - 4, H - B, format_number("{:.3f}", lo),
+      L, H - B + 14, format_number("{:.3g}", x0), W - R, H - B + 14,
+      format_number("{:.3g}", x1), (L + W) / 2, H - 2, html_escape(x_label));
+}
+
 }  // namespace
+
+// The graded profile: the chart, its numbers (each cell FILE.json's, by its pointer), and the
+// wall and pore of each member's cell (a ramp's members, a graded sheet's two ends).
+std::string graded_profile_html(const nlohmann::json& report) {
+  const std::string units = report.value("units", std::string("mm"));
+  std::string out;
+  for (const GradedProfile& g : graded_profiles(report)) {
+    const nlohmann::json& bands = report[nlohmann::json::json_pointer(g.pointer)];
+    out += fmt::format("<h2>Porosity {}: target and measured</h2>\n", html_escape(g.where));
+    out += "<p>Measured: the fraction of the part's lattice nodes outside the solid in each "
+           "band (FILE.json's <code>" + html_escape(g.pointer) + "</code>).</p>\n";
+    out += "<div class=\"charts\" id=\"profile\">\n" + profile_svg(bands, g, units) + "</div>\n";
+    out += fmt::format("<table class=\"numbers\" id=\"profile-bands\">\n<tr><th>{} ({})</th>"
+                       "<th>porosity target</th><th>porosity measured</th></tr>\n",
+                       g.by_depth ? "depth" : g.where, html_escape(units));
+    const auto at = band_places(bands, g.by_depth);
+    for (std::size_t i = 0; i < bands.size(); ++i) {
+      const bool core =
+          g.by_depth && bands[i].contains("depth_to") && bands[i]["depth_to"].is_null();
+      const std::string place = core ? fmt::format("{} – core", format_number("{:.3g}", at[i][0]))
+                                     : fmt::format("{} – {}", format_number("{:.3g}", at[i][0]),
+                                                   format_number("{:.3g}", at[i][2]));
+      const std::string row = fmt::format("{}/{}/", g.pointer, i);
+      out += fmt::format("<tr><th>{}</th>{}{}</tr>\n", html_escape(place),
+                         value_cell(report, row + "porosity_target", "{:.4f}"),
+                         value_cell(report, row + "porosity_nodes", "{:.4f}"));
+    }
+    out += "</table>\n";
+  }
+  if (out.empty() || !report.contains("/morphometry/members"_json_pointer)) return out;
+  const nlohmann::json& members = report["/morphometry/members"_json_pointer];
+  if (!members.is_array() || members.empty()) return out;
+  const bool by_cell = members[0].contains("cell_size");
+  out += fmt::format("<h2>Wall and pore of the cells the part blends (local thickness on each "
+                     "unit cell)</h2>\n<table class=\"numbers\" id=\"members\">\n<tr><th>{}"
+                     "</th><th>wall mean</th><th>wall min</th><th>pore mean</th><th>pore min"
+                     "</th></tr>\n",
+                     by_cell ? "cell size (" + html_escape(units) + ")" : "porosity");
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const std::string at = fmt::format("/morphometry/members/{}/", i);
+    out += fmt::format("<tr>{}{}{}{}{}</tr>\n",
+                       value_cell(report, at + (by_cell ? "cell_size" : "porosity"), "{:.4g}"),
+                       value_cell(report, at + "wall_thickness/mean", "{:.4g}"),
+                       value_cell(report, at + "wall_thickness/min", "{:.4g}"),
+                       value_cell(report, at + "pore_size/mean", "{:.4g}"),
+                       value_cell(report, at + "pore_size/min", "{:.4g}"));
+  }
+  return out + "</table>\n<p>Wall and pore in " + html_escape(units) + ".</p>\n";
+}
 
 PartPageMeasures measure_part_page(const TriMesh& part, std::size_t max_triangles) {
   PartPageMeasures m;
@@ -279,20 +421,29 @@ double write_part_page(const fs::path& html, const fs::path& png, const nlohmann
   const auto t0 = WallClock::now();
   const std::string units = report.value("units", std::string("mm"));
   const nlohmann::json design = report.value("design", nlohmann::json::object());
-  const std::string surface =
-      report.contains("/member/parameters/surface"_json_pointer)
-          ? report["/member/parameters/surface"_json_pointer].get<std::string>()
-          : std::string("");
+  // A graded network's `member` holds its members: the surface is the first one's.
+  std::string surface;
+  for (const char* at : {"/member/parameters/surface", "/member/members/0/parameters/surface"})
+    if (const nlohmann::json::json_pointer p(at); surface.empty() && report.contains(p) &&
+                                                  report[p].is_string())
+      surface = report[p].get<std::string>();
   const std::string solid = design.value("solid", std::string("?"));
+  // A porosity ramp: its ends, and the mean the part meets.
+  const nlohmann::json graded = report.value("graded", nlohmann::json::object());
+  const std::string ramp =
+      graded.contains("porosity_from") && graded.contains("porosity_to")
+          ? fmt::format("{:g} to {:g}, mean ", graded["porosity_from"].get<double>(),
+                        graded["porosity_to"].get<double>())
+          : std::string();
   ReportPage page;
-  page.title = fmt::format("cmcsurf part: {}{}{}, porosity {:.4f}", surface,
-                           surface.empty() ? "" : " ", solid, report.value("porosity", 0.0));
+  page.title = fmt::format("cmcsurf part: {}{}{}, porosity {}{:.4f}", surface,
+                           surface.empty() ? "" : " ", solid, ramp, report.value("porosity", 0.0));
   page.subtitle = fmt::format(
       "{}: {} of {} triangles drawn, coloured by height. Cell size {:g} {}. Drag to rotate, "
       "scroll to zoom.",
       html.filename().string(), m.view_triangles, m.part_triangles,
       design.value("cell_size", 0.0), units);
-  page.body = "<h2>The part</h2>\n" + part_table(report);
+  page.body = "<h2>The part</h2>\n" + part_table(report) + graded_profile_html(report);
   if (report.contains("compare_nodal")) {
     const std::string t = compare_table(report);
     if (!t.empty()) page.body += "<h2>CMC against nodal (--compare-nodal)</h2>\n" + t;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -46,6 +47,12 @@ nlohmann::json part_page_seconds(const PartPageMeasures& m);
 // Returns the wall time.
 double write_part_page(const std::filesystem::path& html, const std::filesystem::path& png,
                        const nlohmann::json& report, const PartPageMeasures& m);
+
+// A graded part's sections of the page (empty for an ungraded one): the porosity profile,
+// target against measured along the axis or by depth (`graded.profile`, or
+// `graded_cell_size.profile`), drawn and tabled, and the wall and pore of the cells it blends
+// (`morphometry.members`). Every number cell names its JSON pointer into the report.
+std::string graded_profile_html(const nlohmann::json& report);
 
 // FILE.json -> FILE (its part: 3MF or STL), measured and written as FILE.html, FILE.png.
 // Throws std::runtime_error naming what is missing or unreadable. Returns the wall time.

@@ -82,7 +82,7 @@ struct PropertyRow {
 
 // What a designer compares (docs/properties.md names the keys), in the page's order.
 constexpr PropertyRow kPropertyRows[] = {
-    {"/relative_density", "relative density ρ", "{:.5f}"},
+    {"/relative_density", "solid fraction ρ (relative density)", "{:.5f}"},
     {"/porosity", "porosity", "{:.5f}"},
     {"/thickness", "sheet thickness", "{:.5g}"},
     {"/youngs_modulus/0", "Young's modulus E_x / E_s", "{:.5g}"},

@@ -4,7 +4,8 @@
 # surface (A at the surface, B at --grade-depth and deeper) for a network (members blended per
 # node) and a sheet (its wall per node); a sheet graded along --axis fills a shape too. The
 # porosity measured on the lattice near the surface and in the core, and the sheet's wall at
-# both ends, against the targets; the misuses refused before any work (exit 2).
+# both ends, against the targets; the network's page shows its profile with FILE.json's
+# numbers; the misuses refused before any work (exit 2).
 set -u
 source "$(dirname "$0")/usage.bash" "$1"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -77,7 +78,30 @@ assert z["by"] == "axis" and z["axis"] == "z" and len(z["profile"]) == 3, z
 assert all(abs(b["porosity_nodes"] - b["porosity_target"]) < 0.02 for b in z["profile"]), z
 PY
 
-# Refused before any work, naming the option (exit 2).
+# The graded part's page (`report FILE.json` remakes it from FILE.json and the part): the
+# profile's chart draws the five bands, target and measured, and every number cell of its table
+# and of the members' table is FILE.json's at its pointer, to all 17 digits.
+"$bin" report "$work/net.stl.json" >/dev/null 2>&1 || { echo "FAIL: report net.stl.json"; fail=1; }
+python3 - "$work" <<'PY' || { echo "FAIL: the graded profile on the page"; fail=1; }
+import json, re, sys
+w = sys.argv[1]
+r = json.load(open(f"{w}/net.stl.json"))
+html = open(f"{w}/net.stl.html").read()
+chart = re.search(r'data-title="porosity profile" data-bands="(\d+)" data-drawn="(\d+)"', html)
+assert chart and chart.groups() == ("5", "5"), chart and chart.groups()
+assert "Porosity by depth below the surface: target and measured" in html
+assert f"cmcsurf part: G network, porosity 0.5 to 0.7, mean {r['porosity']:.4f}" in html
+cells = re.findall(r'<td data-path="(/(?:graded/profile|morphometry/members)/[^"]+)" '
+                   r'data-value="([^"]+)">', html)
+for path, value in cells:
+    at = r
+    for key in path.strip("/").split("/"):
+        at = at[int(key)] if isinstance(at, list) else at[key]
+    assert float(value) == at, (path, value, at)
+assert len(cells) == 5 * 2 + 3 * 5, len(cells)  # bands x (target, measured); members x 5
+print("page: profile of 5 bands and 3 members equal FILE.json")
+PY
+
 shape=(--shape "$work/cyl.stl")
 common+=(--grid 16)
 check_usage bad.stl --grade-by scaffold "${common[@]}" --porosity 0.5:0.7 --grade-by radial \
