@@ -66,6 +66,10 @@ struct RunParams {
   // a step that hits --max-vcycles halves it. The convex splitting is stable for any dt and
   // its fixed points do not depend on dt, so only the path to the equilibrium changes.
   double dt_max_factor = 0.0;
+  // With coarse_levels > 0: the first relaxation at epsilon of a grid continued from a relaxed
+  // coarser one starts at this times h (capped at dt_max_factor h) instead of dt_factor h
+  // (0: dt_factor h, the ramp of every other relaxation).
+  double continued_dt_factor = 0.0;
   // Settling (the fast mode's finishing rule, off when 0): a relaxation at epsilon also ends
   // when its diffuse area and its sharp volume fraction have settled: their last two changes
   // shrank and the geometric tail they predict is at most settle_tol (relative to the area;

@@ -252,6 +252,20 @@ const std::vector<RunOption>& table() {
        .solver_group = true,
        .ref = RunMember<double>([](RunParams& p) -> double& { return p.dt_max_factor; }),
        .fast = [](RunParams& p, bool) { p.dt_max_factor = kFastDtMaxFactor; }},
+      {.key = "continued_dt_factor",
+       .cli = "--continued-dt-factor",
+       .help = "With --coarse-levels: the first relaxation at epsilon of each grid continued "
+               "from a relaxed coarser one starts at dt = this times h, capped at "
+               "--dt-max-factor h, instead of ramping up from --dt-factor h (0: the ramp, the "
+               "default of both modes; 8 saved the ramp's V-cycles at 128^3 but not the steps "
+               "at 256^3, docs/performance.md)",
+       .unit = "h",
+       .scope = S::kSolver,
+       .solver_group = true,
+       .ref = RunMember<double>([](RunParams& p) -> double& { return p.continued_dt_factor; }),
+       .range = {0.0, 1e6, true, true},
+       .accepted = "0 (off) <= F <= 1e6",
+       .optional_in_json = true},  // absent before 2026-11-27: off
       {.key = "settle_tol",
        .cli = "--settle-tol",
        .help = "Also end each relaxation at epsilon once its diffuse area and sharp volume "

@@ -75,11 +75,11 @@ TEST(RunSchema, KeysAndCommandLineNamesAreUnique) {
 // counts. Give it an entry in model/run_schema.cpp (or say here why it is no parameter), then
 // update the count.
 TEST(RunSchema, EveryParameterMemberHasAnEntry) {
-  EXPECT_EQ(aggregate_members<RunParams>(), 33u);  // 32 entries and `solver`
+  EXPECT_EQ(aggregate_members<RunParams>(), 34u);  // 33 entries and `solver`
   EXPECT_EQ(aggregate_members<StepSolverOptions>(), 7u);  // 4 entries, `fas`, and
   // divergence_factor and restore_mass, which only tests change
   EXPECT_EQ(aggregate_members<FasOptions>(), 5u);  // 4 entries; coarsest_check_every: cost only
-  EXPECT_EQ(run_option_table().size(), 32u + 4u + 4u);
+  EXPECT_EQ(run_option_table().size(), 33u + 4u + 4u);
 }
 
 // Each entry reads and writes its own member: changing one changes exactly its key in
@@ -212,6 +212,7 @@ TEST(RunSchema, DefaultsAreFastAndResolvedPaperIsTheOldRun) {
   EXPECT_EQ(fast.settle_tol, 0.0);
   EXPECT_EQ(fast.coarse_levels, 2);
   EXPECT_EQ(fast.anderson_depth, kFastAndersonDepth);
+  EXPECT_EQ(fast.continued_dt_factor, 0.0);  // the ramp (not a win at 256^3)
 
   RunParams paper;
   paper.paper = true;

@@ -3,7 +3,8 @@
 # --fast at 64^3; every run option given another value) equal run_parameters.json beside this
 # script, key for key and in order: written by the build before the run option table
 # (model/run_schema.cpp) existed, so the table maps every option to the key and value it
-# always had (the keys added since, equilibrium_tol, paper and anderson_depth, and --fast's
+# always had (the keys added since, equilibrium_tol, paper, anderson_depth and
+# continued_dt_factor, and --fast's
 # equilibrium rule in
 # place of settle_tol were added to it by hand). Then a sweep resumed with any one
 # of those options changed is refused (exit 2, the option named): resume compares every option
@@ -19,7 +20,8 @@ quiet=(--threads 1 --quiet --no-preview --no-report)
 every=(--surface D --volume-fraction 0.4 --grid 16 --epsilon 0.05 --dt-factor 0.25 --stop phi
        --tol 1e-5 --max-steps 2 --smoother lex --constrain mass --volume-tol 1e-3 --radius 0.3
        --seed 7 --mg-tol 1e-8 --mg-rtol 0.02 --mg-rtol-finest 0.2 --coarse-levels 1 --extrapolate
-       --dt-max-factor 4 --settle-tol 1e-4 --equilibrium-tol 2e-3 --anderson-depth 2
+       --dt-max-factor 4 --continued-dt-factor 2 --settle-tol 1e-4 --equilibrium-tol 2e-3
+       --anderson-depth 2
        --max-vcycles 50 --pre-sweeps 3
        --post-sweeps 1
        --prerelax-steps 2 --prerelax-epsilon-factor 4 --bisection-tol 1e-5 --bisection-max-it 40
