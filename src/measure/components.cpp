@@ -5,6 +5,7 @@
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
 #include "measure/topology.h"
+#include "measure/whole_surface.h"
 
 namespace cmcsurf {
 
@@ -138,9 +139,14 @@ std::vector<double> component_volumes(const Field& phi, const ComponentLabels& l
   return sums;
 }
 
-std::vector<InterfaceMeasures> interface_measures(const Field& phi) {
-  const PhaseComponents counts = phase_components(phi);
-  const int phase = counts.phase2 > counts.phase1 ? 2 : 1;
+namespace {
+
+// The phase whose components interface_measures lists.
+int labelled_phase(const PhaseComponents& counts) {
+  return counts.phase2 > counts.phase1 ? 2 : 1;
+}
+
+std::vector<InterfaceMeasures> interfaces_labelled(const Field& phi, int phase) {
   const ComponentLabels labels = label_components(phi, phase);
   std::vector<InterfaceMeasures> out;
   for (int c = 0; c < labels.count; ++c) {
@@ -163,6 +169,30 @@ std::vector<InterfaceMeasures> interface_measures(const Field& phi) {
   const std::vector<double> volumes = component_volumes(phi, labels);
   for (int c = 0; c < labels.count; ++c) out[std::size_t(c)].enclosed_volume = volumes[c];
   return out;
+}
+
+}  // namespace
+
+std::vector<InterfaceMeasures> interface_measures(const Field& phi) {
+  return interfaces_labelled(phi, labelled_phase(phase_components(phi)));
+}
+
+std::vector<InterfaceMeasures> interface_measures(const Field& phi,
+                                                  const WholeSurfaceMeasures& whole) {
+  const int phase = labelled_phase(whole.counts);
+  const std::int64_t count = phase == 1 ? whole.counts.phase1 : whole.counts.phase2;
+  if (count != 1) return interfaces_labelled(phi, phase);
+  // One component: component_field(phi, labels, 0) is phi itself and every cell's region is 0.
+  InterfaceMeasures m;
+  m.phase = phase;
+  m.component = 0;
+  m.area = whole.surface.area;
+  m.mean_curvature = whole.surface.mean_curvature;
+  m.mean_curvature_std = whole.surface.mean_curvature_std;
+  m.gaussian_curvature_integral = whole.surface.gaussian_curvature_integral;
+  m.euler_characteristic = 2 * (phase == 1 ? whole.euler_phase1 : whole.euler_phase2);
+  m.enclosed_volume = phase == 1 ? whole.volume_fraction : 1.0 - whole.volume_fraction;
+  return {m};
 }
 
 }  // namespace cmcsurf

@@ -8,6 +8,8 @@
 #include "../../tests/test_fields.h"
 #include "measure/sharp_surface.h"
 #include "measure/sharp_volume.h"
+#include "measure/topology.h"
+#include "measure/whole_surface.h"
 #include "surfaces/nodal_level.h"
 
 namespace cmcsurf {
@@ -135,6 +137,51 @@ TEST(Components, DoubleGyroidSeedHasTwoNetworks) {
   EXPECT_NEAR(m[0].enclosed_volume, m[1].enclosed_volume, 1e-12);
   EXPECT_NEAR(m[0].area, m[1].area, 1e-12);
   EXPECT_NEAR(m[0].mean_curvature, m[1].mean_curvature, 1e-9);
+}
+
+// What the final measures hand over, computed here by the functions they use.
+WholeSurfaceMeasures whole_of(const Field& phi) {
+  WholeSurfaceMeasures w;
+  w.counts = phase_components(phi);
+  w.surface = sharp_measures(phi);
+  w.euler_phase1 = euler_characteristic(phi);
+  w.euler_phase2 = euler_characteristic_phase2(phi);
+  w.volume_fraction = sharp_volume_fraction(phi);
+  return w;
+}
+
+// The shortcut for one component gives what labelling gives: the same surface sums bit for bit
+// (component_field is phi itself), the enclosed volume the same fractions summed in another
+// order (N^3 terms in [0, 1] over N^3: 1e-13 is a thousand times their round-off). Several
+// components (balls, the double gyroid's networks) take the labelling path, unchanged.
+TEST(Components, WholeSurfaceShortcutMatchesLabelling) {
+  const NodalLevelSet g = nodal_level_set("G", 0.5, 32);
+  const Field gyroid = nodal_tanh_profile(g, 0.02);
+  const NodalLevelSet dg = double_level_set("G", 0.35, 32);
+  const Field networks = nodal_tanh_profile(dg, 0.02);
+  const Field balls = two_balls(32);
+  Field holes = two_balls(32);
+  for (int k = 0; k < holes.n(); ++k)
+    for (int j = 0; j < holes.n(); ++j)
+      for (int i = 0; i < holes.n(); ++i) holes(i, j, k) = 1.0 - holes(i, j, k);
+  holes.exchange_halo();
+  for (const Field* phi : {&gyroid, &networks, &balls, static_cast<const Field*>(&holes)}) {
+    const std::vector<InterfaceMeasures> a = interface_measures(*phi, whole_of(*phi));
+    const std::vector<InterfaceMeasures> b = interface_measures(*phi);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t c = 0; c < a.size(); ++c) {
+      EXPECT_EQ(a[c].phase, b[c].phase);
+      EXPECT_EQ(a[c].component, b[c].component);
+      EXPECT_EQ(a[c].area, b[c].area);
+      EXPECT_EQ(a[c].mean_curvature, b[c].mean_curvature);
+      EXPECT_EQ(a[c].mean_curvature_std, b[c].mean_curvature_std);
+      EXPECT_EQ(a[c].gaussian_curvature_integral, b[c].gaussian_curvature_integral);
+      EXPECT_EQ(a[c].euler_characteristic, b[c].euler_characteristic);
+      EXPECT_NEAR(a[c].enclosed_volume, b[c].enclosed_volume, 1e-13);
+    }
+  }
+  EXPECT_EQ(interface_measures(gyroid, whole_of(gyroid)).size(), 1u);
+  EXPECT_EQ(interface_measures(holes, whole_of(holes))[0].phase, 2);
 }
 
 }  // namespace

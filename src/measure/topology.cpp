@@ -1,6 +1,9 @@
 #include "measure/topology.h"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_set>
@@ -121,7 +124,7 @@ std::int64_t euler_characteristic_phase2_ref(const Field& phi, double level) {
   return euler_of_ref<true>(phi, level);
 }
 
-PhaseComponents phase_components(const Field& phi, double level) {
+PhaseComponents phase_components_ref(const Field& phi, double level) {
   if (!phi.whole()) throw std::invalid_argument("phase_components: needs the whole grid");
   const int n = phi.n();
   if (double(n) * n * n >= 2147483647.0)
@@ -176,6 +179,109 @@ PhaseComponents phase_components(const Field& phi, double level) {
           }
       }
   out.interfaces = std::int64_t(pairs.size());
+  return out;
+}
+
+namespace {
+
+// The 13 forward neighbours of phase_components_ref, in-plane ones (dz = 0) first.
+constexpr int kForwardInPlane = 4;
+constexpr int kForward[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1},
+                                 {0, -1, 1}, {1, -1, 1}, {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},
+                                 {-1, 1, 1}, {0, 1, 1},  {1, 1, 1}};
+
+}  // namespace
+
+PhaseComponents phase_components(const Field& phi, double level) {
+  if (!phi.whole()) throw std::invalid_argument("phase_components: needs the whole grid");
+  const int n = phi.n();
+  if (double(n) * n * n >= 2147483647.0)
+    throw std::invalid_argument("phase_components: grid too large for 32-bit labels");
+  const std::size_t cells = std::size_t(n) * n * n;
+  const auto wrap = [n](int i) { return i < 0 ? i + n : i >= n ? i - n : i; };
+  const auto id = [n](int i, int j, int k) { return std::int32_t((k * n + j) * n + i); };
+  // Each cell's phase: 1 above the level, 2 below, 0 at it (in neither closed-voxel union).
+  std::vector<std::uint8_t> phase(cells);
+  DisjointSets sets(cells);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinN)
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double v = phi(i, j, k);
+        phase[std::size_t(id(i, j, k))] = v > level ? 1 : v < level ? 2 : 0;
+      }
+  // Joins cell (i, j, k) with its forward neighbours d = first..last-1 of the same phase.
+  const auto join_forward = [&](int i, int j, int k, int first, int last) {
+    const std::int32_t c = id(i, j, k);
+    const std::uint8_t p = phase[std::size_t(c)];
+    if (p == 0) return;
+    for (int d = first; d < last; ++d) {
+      const std::int32_t b =
+          id(wrap(i + kForward[d][0]), wrap(j + kForward[d][1]), wrap(k + kForward[d][2]));
+      if (phase[std::size_t(b)] == p) sets.join(c, b);
+    }
+  };
+  // Each thread joins within its slab of planes, whose cells' sets hold only cells of the slab
+  // (a root is the set's smallest index), so no two threads touch one parent; the pairs across
+  // slab boundaries are joined after, in one thread. The counts do not depend on the order.
+  std::vector<int> slab_ends;
+#pragma omp parallel if (n >= kParallelMinN)
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    const int k0 = int(std::int64_t(n) * t / threads);
+    const int k1 = int(std::int64_t(n) * (t + 1) / threads);
+    for (int k = k0; k < k1; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) join_forward(i, j, k, 0, k + 1 < k1 ? 13 : kForwardInPlane);
+#pragma omp single
+    for (int u = 0; u < threads; ++u) slab_ends.push_back(int(std::int64_t(n) * (u + 1) / threads));
+  }
+  for (const int k1 : slab_ends)  // an empty slab repeats its neighbour's end: joined twice
+    if (k1 > 0)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) join_forward(i, j, k1 - 1, kForwardInPlane, 13);
+  // Every parent is at most its child (join keeps the smaller root, halving only shortens), so
+  // one pass in index order points every cell at its root.
+  std::vector<std::int32_t>& parent = sets.parent;
+  for (std::size_t c = 0; c < cells; ++c) parent[c] = parent[std::size_t(parent[c])];
+  PhaseComponents out;
+  std::int64_t roots1 = 0, roots2 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : roots1, roots2) if (n >= kParallelMinN)
+  for (std::int64_t c = 0; c < std::int64_t(cells); ++c)
+    if (sets.parent[std::size_t(c)] == std::int32_t(c)) {
+      roots1 += phase[std::size_t(c)] == 1;
+      roots2 += phase[std::size_t(c)] == 2;
+    }
+  out.phase1 = roots1;
+  out.phase2 = roots2;
+  // Adjacent (phase 1, phase 2) root pairs across voxel faces: each thread lists its own
+  // (without repeats in a row), then one sorted list without repeats.
+  const auto root = [&](std::int32_t a) { return sets.parent[std::size_t(a)]; };
+  std::vector<std::uint64_t> pairs;
+#pragma omp parallel if (n >= kParallelMinN)
+  {
+    std::vector<std::uint64_t> mine;
+#pragma omp for schedule(static) nowait
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::int32_t c = id(i, j, k);
+          if (phase[std::size_t(c)] != 1) continue;
+          for (int axis = 0; axis < 3; ++axis)
+            for (int s = -1; s <= 1; s += 2) {
+              const std::int32_t b = id(wrap(i + (axis == 0) * s), wrap(j + (axis == 1) * s),
+                                        wrap(k + (axis == 2) * s));
+              if (phase[std::size_t(b)] != 2) continue;
+              const std::uint64_t key =
+                  std::uint64_t(std::uint32_t(root(c))) << 32 | std::uint32_t(root(b));
+              if (mine.empty() || mine.back() != key) mine.push_back(key);
+            }
+        }
+#pragma omp critical
+    pairs.insert(pairs.end(), mine.begin(), mine.end());
+  }
+  std::sort(pairs.begin(), pairs.end());
+  out.interfaces = std::int64_t(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
   return out;
 }
 

@@ -40,5 +40,7 @@ struct PhaseComponents {
   std::int64_t interfaces = 0;
 };
 PhaseComponents phase_components(const Field& phi, double level = 0.5);
+// Plain twin: one union-find in cell order, the pairs in a hash set, serial.
+PhaseComponents phase_components_ref(const Field& phi, double level = 0.5);
 
 }  // namespace cmcsurf

@@ -1,6 +1,7 @@
 #include "measure/topology.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <numbers>
@@ -124,5 +125,31 @@ TEST(Topology, ComponentsOfBallsSlabsAndTwoNetworks) {
   EXPECT_EQ(euler_characteristic_phase2(dg), -8);
 }
 
+// The slab-parallel union-find against the serial one: random fields (hundreds of components of
+// one phase at the levels beyond 26-connected percolation, about 0.1 and 0.9), nodal fields, at
+// thread counts that split the 36 planes evenly, unevenly and into slabs of 1 to 6 planes.
+TEST(Topology, PhaseComponentsMatchReference) {
+  const int saved = omp_get_max_threads();
+  const Field noise = testing::random_field(36, 1, 0.0, 1.0, 11);
+  const Field g = nodal("G", 36), p = nodal("P", 32);
+  for (int threads : {1, 2, 5, 7}) {
+    omp_set_num_threads(threads);
+    for (double level : {0.05, 0.3, 0.5, 0.7, 0.95}) {
+      for (const Field* f : {&noise, &g, &p}) {
+        const PhaseComponents a = phase_components(*f, level);
+        const PhaseComponents b = phase_components_ref(*f, level);
+        EXPECT_EQ(a.phase1, b.phase1) << threads << " " << level;
+        EXPECT_EQ(a.phase2, b.phase2) << threads << " " << level;
+        EXPECT_EQ(a.interfaces, b.interfaces) << threads << " " << level;
+      }
+    }
+  }
+  omp_set_num_threads(saved);
+  // Not a check that cannot fail: the noise has many components of one phase at either end.
+  const PhaseComponents c = phase_components(noise, 0.95), d = phase_components(noise, 0.05);
+  EXPECT_GT(c.phase1, 100);
+  EXPECT_GT(c.interfaces, 100);
+  EXPECT_GT(d.phase2, 100);
+}
 }  // namespace
 }  // namespace cmcsurf

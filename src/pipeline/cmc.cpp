@@ -17,6 +17,7 @@
 #include "measure/sharp_volume.h"
 #include "measure/components.h"
 #include "measure/topology.h"
+#include "measure/whole_surface.h"
 #include "surfaces/initial.h"
 
 namespace cmcsurf {
@@ -652,7 +653,19 @@ namespace {
 // and the topology warnings (whole grids only: the labels are global).
 void add_component_measures(RunResult& r) {
   if (!r.phi.whole()) return;
-  r.interfaces = interface_measures(r.phi);
+  // The whole surface's measures (add_sharp_measures, on this field): a bicontinuous surface
+  // is one piece, measured once.
+  const Measures& f = r.final;
+  WholeSurfaceMeasures whole;
+  whole.counts = {f.components_phase1, f.components_phase2, f.surface_components};
+  whole.surface.area = f.area;
+  whole.surface.mean_curvature = f.mean_curvature;
+  whole.surface.mean_curvature_std = f.mean_curvature_std;
+  whole.surface.gaussian_curvature_integral = f.gaussian_curvature_integral;
+  whole.euler_phase1 = f.euler_characteristic;
+  whole.euler_phase2 = f.euler_characteristic_phase2;
+  whole.volume_fraction = f.volume_fraction;
+  r.interfaces = interface_measures(r.phi, whole);
   if (!r.component_volume_targets.empty()) {
     r.component_volumes = component_volumes(r.phi, label_components(r.phi, 1));
   }
