@@ -2,6 +2,7 @@
 // volume, angles and edge lengths; and what every unfolding of the whole torus must show.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -11,6 +12,19 @@
 #include "mesh/tet_mesh.h"
 
 namespace cmcsurf {
+
+// The volume of a periodic tet mesh, each tet unfolded by its offsets.
+inline double torus_volume(const PeriodicTets& t) {
+  double v = 0.0;
+  for (std::size_t i = 0; i < t.tets.size(); ++i) {
+    std::array<Vec3, 4> x;
+    for (int q = 0; q < 4; ++q)
+      for (int a = 0; a < 3; ++a)
+        x[std::size_t(q)][a] = t.vertices[std::size_t(t.tets[i][q])][a] + t.offsets[i][q][a];
+    v += tet_volume(x[0], x[1], x[2], x[3]);
+  }
+  return v;
+}
 
 // The lattice is shifted by `shift` cubes (0.37: no vertex on a face of the box, so every tet
 // that crosses a face carries offsets) and each vertex moved by up to `jitter` cubes per axis

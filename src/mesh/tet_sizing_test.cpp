@@ -10,18 +10,6 @@
 namespace cmcsurf {
 namespace {
 
-double torus_volume(const PeriodicTets& t) {
-  double v = 0.0;
-  for (std::size_t i = 0; i < t.tets.size(); ++i) {
-    std::array<Vec3, 4> x;
-    for (int q = 0; q < 4; ++q)
-      for (int a = 0; a < 3; ++a)
-        x[std::size_t(q)][a] = t.vertices[std::size_t(t.tets[i][q])][a] + t.offsets[i][q][a];
-    v += tet_volume(x[0], x[1], x[2], x[3]);
-  }
-  return v;
-}
-
 // Half of the jittered Kuhn torus: a slab whose two boundary layers are the solid's surface.
 PeriodicTets slab(int m, unsigned seed) {
   const PeriodicTets whole = kuhn_torus(m, 0.37, 0.15, seed);

@@ -10,18 +10,6 @@
 namespace cmcsurf {
 namespace {
 
-double torus_volume(const PeriodicTets& t) {
-  double v = 0.0;
-  for (std::size_t i = 0; i < t.tets.size(); ++i) {
-    std::array<Vec3, 4> x;
-    for (int q = 0; q < 4; ++q)
-      for (int a = 0; a < 3; ++a)
-        x[std::size_t(q)][a] = t.vertices[std::size_t(t.tets[i][q])][a] + t.offsets[i][q][a];
-    v += tet_volume(x[0], x[1], x[2], x[3]);
-  }
-  return v;
-}
-
 TEST(TetSmooth, MinDihedralOfKnownTets) {
   // The Kuhn tet (0, e_x, e_x + e_y, 1): angles 45, 60 and 90 degrees; the regular tet:
   // acos(1/3); a flat one: -1.
