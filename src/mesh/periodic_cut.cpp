@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "mesh/tet_smooth.h"
+
 namespace cmcsurf {
 
 namespace {
@@ -269,10 +271,147 @@ void snap_to_cell_faces(PeriodicTets& t, int axis, double snap, CellFaceCut& sta
   }
 }
 
+using Incidence = std::vector<std::vector<std::pair<std::size_t, int>>>;
+
+Incidence incidences(const PeriodicTets& t) {
+  Incidence incident(t.vertices.size());
+  for (std::size_t i = 0; i < t.tets.size(); ++i)
+    for (int q = 0; q < 4; ++q) incident[std::size_t(t.tets[i][q])].push_back({i, q});
+  return incident;
+}
+
+Vec3 corner_of(const PeriodicTets& t, std::size_t i, int q) {
+  return position(t, {t.tets[i][q], {t.offsets[i][q][0], t.offsets[i][q][1],
+                                     t.offsets[i][q][2]}});
+}
+
+double tet_min_dihedral(const PeriodicTets& t, std::size_t i) {
+  return tet_min_dihedral_deg(corner_of(t, i, 0), corner_of(t, i, 1), corner_of(t, i, 2),
+                              corner_of(t, i, 3));
+}
+
+double volume_of(const PeriodicTets& t, std::size_t i) {
+  return tet_volume(corner_of(t, i, 0), corner_of(t, i, 1), corner_of(t, i, 2),
+                    corner_of(t, i, 3));
+}
+
+// The faces v is on (bits).
+unsigned planes_of(const PeriodicTets& t, std::size_t v) {
+  unsigned planes = 0;
+  for (int a = 0; a < 3; ++a) planes |= (t.vertices[v][a] == 0.0 ? 1u : 0u) << a;
+  return planes;
+}
+
+// The cell around corner q of tet i that the tet lies in: bit a set when the tet is below face
+// a (the corner on the upper plane of the tet's cell). After the cut every tet lies in one cell.
+unsigned cell_of(const PeriodicTets& t, std::size_t i, int q, unsigned planes) {
+  unsigned cell = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!(planes & (1u << a))) continue;
+    double c = 0.0;
+    for (int r = 0; r < 4; ++r) c += 0.25 * corner_of(t, i, r)[a];
+    cell |= unsigned(t.offsets[i][q][a] - int(std::floor(c)) == 1) << a;
+  }
+  return cell;
+}
+
+// The cells around a point on the faces `planes`, as bits.
+unsigned all_cells(unsigned planes) {
+  unsigned want = 0;
+  for (unsigned cell = 0; cell < 8; ++cell) want |= (cell & ~planes) ? 0u : 1u << cell;
+  return want;
+}
+
+unsigned cells_of(const PeriodicTets& t, const std::vector<std::pair<std::size_t, int>>& inc,
+                  unsigned planes) {
+  unsigned cells = 0;
+  for (const auto& [i, q] : inc) cells |= 1u << cell_of(t, i, q, planes);
+  return cells;
+}
+
+// Face vertices with tets in some of the cells around them but not all: some of their images
+// in the box lack a partner.
+std::size_t face_vertices_in_part_of_cells(const PeriodicTets& t) {
+  const Incidence incident = incidences(t);
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < t.vertices.size(); ++v) {
+    const unsigned planes = planes_of(t, v);
+    n += planes && !incident[v].empty() && cells_of(t, incident[v], planes) != all_cells(planes);
+  }
+  return n;
+}
+
+// Moves v (on two or three faces, its tets in an L of the cells around it) into the cell of
+// its tets joined across faces to the most others, off each face by h, and re-cuts the tets of
+// the other cells at those faces. The pieces between v and the faces are about h thick, so h
+// starts at the snap's reach (kDefaultCellFaceSnap of the shortest edge: the snap put v there
+// by up to as much) and is halved while an incident tet would lose half its volume, a piece
+// would be degenerate or a changed tet's smallest dihedral angle fall below `bound`, down to
+// the lift's distance. False (t unchanged) if none passes; else `moved` is the largest h.
+bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, double bound,
+                           std::size_t& recut, double& moved) {
+  const Incidence incident = incidences(t);
+  const auto& inc = incident[v];
+  const unsigned planes = planes_of(t, v);
+  if (!planes || inc.empty()) return false;
+  const unsigned cells = cells_of(t, inc, planes);
+  unsigned middle = 0;
+  int most = -1;
+  for (unsigned c = 0; c < 8; ++c) {
+    if (!(cells >> c & 1u)) continue;
+    int joined = 0;
+    for (int a = 0; a < 3; ++a)
+      joined += (planes >> a & 1u) && (cells >> (c ^ (1u << a)) & 1u);
+    if (joined > most) most = joined, middle = c;
+  }
+  double shortest = INFINITY;
+  std::vector<double> before;
+  for (const auto& [i, q] : inc) {
+    before.push_back(volume_of(t, i));
+    for (int r = 0; r < 4; ++r)
+      if (r != q) {
+        const Vec3 d = sub(corner_of(t, i, r), corner_of(t, i, q));
+        shortest = std::min(shortest, std::sqrt(dot(d, d)));
+      }
+  }
+  const double least = std::min(kOneSidedLift * shortest, max_lift);
+  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5) {
+    PeriodicTets trial = t;
+    for (int a = 0; a < 3; ++a) {
+      if (!(planes >> a & 1u)) continue;
+      const bool below = middle >> a & 1u;  // one period down, at 1 - h
+      trial.vertices[v][a] = below ? 1.0 - h : h;
+      for (const auto& [i, q] : inc)
+        trial.offsets[i][q][a] = std::int8_t(trial.offsets[i][q][a] - (below ? 1 : 0));
+    }
+    bool ok = true;
+    for (std::size_t k = 0; k < inc.size() && ok; ++k)
+      ok = volume_of(trial, inc[k].first) >= 0.5 * before[k];
+    if (!ok) continue;
+    const std::size_t old_vertices = t.vertices.size();
+    CellFaceCut stats;
+    for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
+    double lowest = 180.0;
+    for (std::size_t i = 0; i < trial.tets.size(); ++i) {
+      bool changed = false;
+      for (std::int32_t w : trial.tets[i])
+        changed = changed || std::size_t(w) == v || std::size_t(w) >= old_vertices;
+      if (changed) lowest = std::min(lowest, tet_min_dihedral(trial, i));
+    }
+    if (stats.degenerate || lowest < bound) continue;
+    t = std::move(trial);
+    recut += stats.split_tets;
+    moved = std::max(moved, h);
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
-                                                  double min_edge, double max_edge) {
+                                                  double min_edge, double max_edge,
+                                                  double floor_deg) {
   OneSidedFaceVertices s;
   std::vector<std::vector<std::pair<std::size_t, int>>> incident(t.vertices.size());
   for (std::size_t i = 0; i < t.tets.size(); ++i)
@@ -353,6 +492,7 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     }
     return false;
   };
+  std::vector<std::size_t> in_l;  // left on faces with tets in some cells around them
   for (std::size_t v = 0; v < t.vertices.size(); ++v) {  // grows by the copies below
     const unsigned planes = planes_of(v);
     if (!planes || incident[v].empty()) continue;
@@ -402,8 +542,19 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     const unsigned left = planes_of(v);
     unsigned now = 0;
     for (const auto& [i, q] : incident[v]) now |= 1u << cell_of(i, q, left);
-    s.left += left && now != all_cells(left);
+    if (left && now != all_cells(left)) in_l.push_back(v);
   }
+  // L vertices into their middle cell, each tried on a copy of the mesh (there are few).
+  if (!in_l.empty()) {
+    double lowest = 180.0;
+    for (std::size_t i = 0; i < t.tets.size(); ++i)
+      lowest = std::min(lowest, tet_min_dihedral(t, i));
+    const double bound = std::min(floor_deg, lowest);
+    for (std::size_t v : in_l)
+      s.moved_into_cell +=
+          move_into_middle_cell(t, v, max_lift, bound, s.recut_tets, s.max_cell_move);
+  }
+  s.left = in_l.empty() ? 0 : face_vertices_in_part_of_cells(t);
   return s;
 }
 

@@ -22,7 +22,8 @@ r = json.load(open(sys.argv[1]))
 c, e, z, k = r["checks"], r["edge_length"], r["sizing"], r["cut"]
 bad = []
 # Every face vertex on one side of its face lifted off it; what is left unpaired is the L
-# vertices on the box's edge lines counted in cut (at most 3 plane incidences each).
+# vertices on the box's edges or corners whose move into their middle cell would leave a tet
+# under the quality floor, counted in cut (at most 3 plane incidences each).
 if k["lifted_vertices"] != k["one_sided_face_vertices"]: bad.append("lift")
 if c["unpaired_plane_nodes"] > 3 * k["face_vertices_left_unpaired"]: bad.append("unpaired")
 if c["unpaired_nodes"] != 0: bad.append("unpaired_nodes")
