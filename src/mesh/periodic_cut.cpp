@@ -355,6 +355,10 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
   const unsigned planes = planes_of(t, v);
   if (!planes || inc.empty()) return false;
   const unsigned cells = cells_of(t, inc, planes);
+  // Where v may go: off the faces `off` to the sides `side` (bit a set: below face a), so
+  // that on the faces it stays on its tets fill every cell around it. First the cell joined
+  // across faces to the most others (off all faces), then off fewer faces (at a box corner
+  // with 7 of the 8 cells, off one face onto an edge with all 4).
   unsigned middle = 0;
   int most = -1;
   for (unsigned c = 0; c < 8; ++c) {
@@ -364,6 +368,18 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
       joined += (planes >> a & 1u) && (cells >> (c ^ (1u << a)) & 1u);
     if (joined > most) most = joined, middle = c;
   }
+  std::vector<std::pair<unsigned, unsigned>> targets{{planes, middle}};
+  for (int faces = 1; faces <= 3; ++faces)
+    for (unsigned off = 1; off < 8; ++off) {
+      if ((off & ~planes) || __builtin_popcount(off) != faces) continue;
+      for (unsigned side = 0; side < 8; ++side) {
+        if (side & ~off) continue;
+        bool fills = true;
+        for (unsigned r = 0; r < 8; ++r)
+          if (!(r & ~(planes & ~off))) fills = fills && (cells >> (side | r) & 1u);
+        if (fills && !(off == planes && side == middle)) targets.push_back({off, side});
+      }
+    }
   double shortest = INFINITY;
   std::vector<double> before;
   for (const auto& [i, q] : inc) {
@@ -375,11 +391,12 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
       }
   }
   const double least = std::min(kOneSidedLift * shortest, max_lift);
-  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5) {
+  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5)
+  for (const auto& [off, side] : targets) {
     PeriodicTets trial = t;
     for (int a = 0; a < 3; ++a) {
-      if (!(planes >> a & 1u)) continue;
-      const bool below = middle >> a & 1u;  // one period down, at 1 - h
+      if (!(off >> a & 1u)) continue;
+      const bool below = side >> a & 1u;  // one period down, at 1 - h
       trial.vertices[v][a] = below ? 1.0 - h : h;
       for (const auto& [i, q] : inc)
         trial.offsets[i][q][a] = std::int8_t(trial.offsets[i][q][a] - (below ? 1 : 0));

@@ -49,11 +49,12 @@ struct OneSidedFaceVertices {
   std::size_t split = 0;   // copies made of pinching vertices (diagonal cells)
   double max_lift = 0.0;   // unit cells
   // On a box edge or corner with tets on both sides of each face but not in every cell
-  // around it (an L): moved into the cell joined across faces to the most others, off each
-  // face by up to kDefaultCellFaceSnap of its shortest edge (the snap's reach: a move of the
-  // lift's size leaves pieces as thin as it, under 1 degree), and the tets in the other cells
-  // re-cut at those faces; kept only if no changed tet falls below min(floor_deg, the
-  // smallest dihedral angle of the mesh before).
+  // around it (an L around an edge; 7 of 8 cells at a corner): moved off faces, into the cell
+  // joined across faces to the most others or else off fewer faces to where its tets fill
+  // every cell around it, by up to kDefaultCellFaceSnap of its shortest edge (the snap's
+  // reach: a move of the lift's size leaves pieces as thin as it, under 1 degree), and the
+  // tets in the other cells re-cut at those faces; kept only if no changed tet falls below
+  // min(floor_deg, the smallest dihedral angle of the mesh before).
   std::size_t moved_into_cell = 0;
   std::size_t recut_tets = 0;   // tets split by those re-cuts
   double max_cell_move = 0.0;   // the largest distance off a face, unit cells
