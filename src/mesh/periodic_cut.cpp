@@ -348,6 +348,7 @@ std::size_t face_vertices_in_part_of_cells(const PeriodicTets& t) {
 // by up to as much) and is halved while an incident tet would lose half its volume, a piece
 // would be degenerate or a changed tet's smallest dihedral angle fall below `bound`, down to
 // the lift's distance. False (t unchanged) if none passes; else `moved` is the largest h.
+// Each try works on a copy of v's tets.
 bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, double bound,
                            std::size_t& recut, double& moved) {
   const Incidence incident = incidences(t);
@@ -390,37 +391,51 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
         shortest = std::min(shortest, std::sqrt(dot(d, d)));
       }
   }
+  // Only v's tets change: an edge the faces cross after the move has v at one end, so every
+  // tet holding it is one of them. They are tried apart and spliced back.
+  PeriodicTets star;
+  star.vertices = t.vertices;
+  for (const auto& [i, q] : inc) {
+    star.tets.push_back(t.tets[i]);
+    star.offsets.push_back(t.offsets[i]);
+  }
   const double least = std::min(kOneSidedLift * shortest, max_lift);
   for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5)
-  for (const auto& [off, side] : targets) {
-    PeriodicTets trial = t;
-    for (int a = 0; a < 3; ++a) {
-      if (!(off >> a & 1u)) continue;
-      const bool below = side >> a & 1u;  // one period down, at 1 - h
-      trial.vertices[v][a] = below ? 1.0 - h : h;
-      for (const auto& [i, q] : inc)
-        trial.offsets[i][q][a] = std::int8_t(trial.offsets[i][q][a] - (below ? 1 : 0));
+    for (const auto& [off, side] : targets) {
+      PeriodicTets trial = star;
+      for (int a = 0; a < 3; ++a) {
+        if (!(off >> a & 1u)) continue;
+        const bool below = side >> a & 1u;  // one period down, at 1 - h
+        trial.vertices[v][a] = below ? 1.0 - h : h;
+        for (std::size_t k = 0; k < inc.size(); ++k) {
+          std::int8_t& o = trial.offsets[k][inc[k].second][a];
+          o = std::int8_t(o - (below ? 1 : 0));
+        }
+      }
+      bool ok = true;
+      for (std::size_t k = 0; k < inc.size() && ok; ++k)
+        ok = volume_of(trial, k) >= 0.5 * before[k];
+      if (!ok) continue;
+      CellFaceCut stats;
+      for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
+      double lowest = 180.0;
+      for (std::size_t i = 0; i < trial.tets.size(); ++i)
+        lowest = std::min(lowest, tet_min_dihedral(trial, i));
+      if (stats.degenerate || lowest < bound) continue;
+      std::vector<char> replaced(t.tets.size(), 0);
+      for (const auto& [i, q] : inc) replaced[i] = 1;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < t.tets.size(); ++i)
+        if (!replaced[i]) t.tets[kept] = t.tets[i], t.offsets[kept++] = t.offsets[i];
+      t.tets.resize(kept);
+      t.offsets.resize(kept);
+      t.tets.insert(t.tets.end(), trial.tets.begin(), trial.tets.end());
+      t.offsets.insert(t.offsets.end(), trial.offsets.begin(), trial.offsets.end());
+      t.vertices = std::move(trial.vertices);
+      recut += stats.split_tets;
+      moved = std::max(moved, h);
+      return true;
     }
-    bool ok = true;
-    for (std::size_t k = 0; k < inc.size() && ok; ++k)
-      ok = volume_of(trial, inc[k].first) >= 0.5 * before[k];
-    if (!ok) continue;
-    const std::size_t old_vertices = t.vertices.size();
-    CellFaceCut stats;
-    for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
-    double lowest = 180.0;
-    for (std::size_t i = 0; i < trial.tets.size(); ++i) {
-      bool changed = false;
-      for (std::int32_t w : trial.tets[i])
-        changed = changed || std::size_t(w) == v || std::size_t(w) >= old_vertices;
-      if (changed) lowest = std::min(lowest, tet_min_dihedral(trial, i));
-    }
-    if (stats.degenerate || lowest < bound) continue;
-    t = std::move(trial);
-    recut += stats.split_tets;
-    moved = std::max(moved, h);
-    return true;
-  }
   return false;
 }
 
@@ -561,7 +576,7 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     for (const auto& [i, q] : incident[v]) now |= 1u << cell_of(i, q, left);
     if (left && now != all_cells(left)) in_l.push_back(v);
   }
-  // L vertices into their middle cell, each tried on a copy of the mesh (there are few).
+  // L vertices off the faces, each tried on a copy of its tets.
   if (!in_l.empty()) {
     double lowest = 180.0;
     for (std::size_t i = 0; i < t.tets.size(); ++i)
