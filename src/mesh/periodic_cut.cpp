@@ -1,6 +1,7 @@
 #include "mesh/periodic_cut.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -372,7 +373,7 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
   std::vector<std::pair<unsigned, unsigned>> targets{{planes, middle}};
   for (int faces = 1; faces <= 3; ++faces)
     for (unsigned off = 1; off < 8; ++off) {
-      if ((off & ~planes) || __builtin_popcount(off) != faces) continue;
+      if ((off & ~planes) || std::popcount(off) != faces) continue;
       for (unsigned side = 0; side < 8; ++side) {
         if (side & ~off) continue;
         bool fills = true;
@@ -425,8 +426,12 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
       std::vector<char> replaced(t.tets.size(), 0);
       for (const auto& [i, q] : inc) replaced[i] = 1;
       std::size_t kept = 0;
-      for (std::size_t i = 0; i < t.tets.size(); ++i)
-        if (!replaced[i]) t.tets[kept] = t.tets[i], t.offsets[kept++] = t.offsets[i];
+      for (std::size_t i = 0; i < t.tets.size(); ++i) {
+        if (replaced[i]) continue;
+        t.tets[kept] = t.tets[i];
+        t.offsets[kept] = t.offsets[i];
+        ++kept;
+      }
       t.tets.resize(kept);
       t.offsets.resize(kept);
       t.tets.insert(t.tets.end(), trial.tets.begin(), trial.tets.end());
