@@ -1,9 +1,12 @@
 #include "mesh/periodic_cut.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "mesh/tet_smooth.h"
 
 namespace cmcsurf {
 
@@ -269,10 +272,183 @@ void snap_to_cell_faces(PeriodicTets& t, int axis, double snap, CellFaceCut& sta
   }
 }
 
+using Incidence = std::vector<std::vector<std::pair<std::size_t, int>>>;
+
+Incidence incidences(const PeriodicTets& t) {
+  Incidence incident(t.vertices.size());
+  for (std::size_t i = 0; i < t.tets.size(); ++i)
+    for (int q = 0; q < 4; ++q) incident[std::size_t(t.tets[i][q])].push_back({i, q});
+  return incident;
+}
+
+Vec3 corner_of(const PeriodicTets& t, std::size_t i, int q) {
+  return position(t, {t.tets[i][q], {t.offsets[i][q][0], t.offsets[i][q][1],
+                                     t.offsets[i][q][2]}});
+}
+
+double tet_min_dihedral(const PeriodicTets& t, std::size_t i) {
+  return tet_min_dihedral_deg(corner_of(t, i, 0), corner_of(t, i, 1), corner_of(t, i, 2),
+                              corner_of(t, i, 3));
+}
+
+double volume_of(const PeriodicTets& t, std::size_t i) {
+  return tet_volume(corner_of(t, i, 0), corner_of(t, i, 1), corner_of(t, i, 2),
+                    corner_of(t, i, 3));
+}
+
+// The faces v is on (bits).
+unsigned planes_of(const PeriodicTets& t, std::size_t v) {
+  unsigned planes = 0;
+  for (int a = 0; a < 3; ++a) planes |= (t.vertices[v][a] == 0.0 ? 1u : 0u) << a;
+  return planes;
+}
+
+// The cell around corner q of tet i that the tet lies in: bit a set when the tet is below face
+// a (the corner on the upper plane of the tet's cell). After the cut every tet lies in one cell.
+unsigned cell_of(const PeriodicTets& t, std::size_t i, int q, unsigned planes) {
+  unsigned cell = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!(planes & (1u << a))) continue;
+    double c = 0.0;
+    for (int r = 0; r < 4; ++r) c += 0.25 * corner_of(t, i, r)[a];
+    cell |= unsigned(t.offsets[i][q][a] - int(std::floor(c)) == 1) << a;
+  }
+  return cell;
+}
+
+// The cells around a point on the faces `planes`, as bits.
+unsigned all_cells(unsigned planes) {
+  unsigned want = 0;
+  for (unsigned cell = 0; cell < 8; ++cell) want |= (cell & ~planes) ? 0u : 1u << cell;
+  return want;
+}
+
+unsigned cells_of(const PeriodicTets& t, const std::vector<std::pair<std::size_t, int>>& inc,
+                  unsigned planes) {
+  unsigned cells = 0;
+  for (const auto& [i, q] : inc) cells |= 1u << cell_of(t, i, q, planes);
+  return cells;
+}
+
+// Face vertices with tets in some of the cells around them but not all: some of their images
+// in the box lack a partner.
+std::size_t face_vertices_in_part_of_cells(const PeriodicTets& t) {
+  const Incidence incident = incidences(t);
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < t.vertices.size(); ++v) {
+    const unsigned planes = planes_of(t, v);
+    n += planes && !incident[v].empty() && cells_of(t, incident[v], planes) != all_cells(planes);
+  }
+  return n;
+}
+
+// Moves v (on two or three faces, its tets in an L of the cells around it) into the cell of
+// its tets joined across faces to the most others, off each face by h, and re-cuts the tets of
+// the other cells at those faces. The pieces between v and the faces are about h thick, so h
+// starts at the snap's reach (kDefaultCellFaceSnap of the shortest edge: the snap put v there
+// by up to as much) and is halved while an incident tet would lose half its volume, a piece
+// would be degenerate or a changed tet's smallest dihedral angle fall below `bound`, down to
+// the lift's distance. False (t unchanged) if none passes; else `moved` is the largest h.
+// Each try works on a copy of v's tets.
+bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, double bound,
+                           std::size_t& recut, double& moved) {
+  const Incidence incident = incidences(t);
+  const auto& inc = incident[v];
+  const unsigned planes = planes_of(t, v);
+  if (!planes || inc.empty()) return false;
+  const unsigned cells = cells_of(t, inc, planes);
+  // Where v may go: off the faces `off` to the sides `side` (bit a set: below face a), so
+  // that on the faces it stays on its tets fill every cell around it. First the cell joined
+  // across faces to the most others (off all faces), then off fewer faces (at a box corner
+  // with 7 of the 8 cells, off one face onto an edge with all 4).
+  unsigned middle = 0;
+  int most = -1;
+  for (unsigned c = 0; c < 8; ++c) {
+    if (!(cells >> c & 1u)) continue;
+    int joined = 0;
+    for (int a = 0; a < 3; ++a)
+      joined += (planes >> a & 1u) && (cells >> (c ^ (1u << a)) & 1u);
+    if (joined > most) most = joined, middle = c;
+  }
+  std::vector<std::pair<unsigned, unsigned>> targets{{planes, middle}};
+  for (int faces = 1; faces <= 3; ++faces)
+    for (unsigned off = 1; off < 8; ++off) {
+      if ((off & ~planes) || std::popcount(off) != faces) continue;
+      for (unsigned side = 0; side < 8; ++side) {
+        if (side & ~off) continue;
+        bool fills = true;
+        for (unsigned r = 0; r < 8; ++r)
+          if (!(r & ~(planes & ~off))) fills = fills && (cells >> (side | r) & 1u);
+        if (fills && !(off == planes && side == middle)) targets.push_back({off, side});
+      }
+    }
+  double shortest = INFINITY;
+  std::vector<double> before;
+  for (const auto& [i, q] : inc) {
+    before.push_back(volume_of(t, i));
+    for (int r = 0; r < 4; ++r)
+      if (r != q) {
+        const Vec3 d = sub(corner_of(t, i, r), corner_of(t, i, q));
+        shortest = std::min(shortest, std::sqrt(dot(d, d)));
+      }
+  }
+  // Only v's tets change: an edge the faces cross after the move has v at one end, so every
+  // tet holding it is one of them. They are tried apart and spliced back.
+  PeriodicTets star;
+  star.vertices = t.vertices;
+  for (const auto& [i, q] : inc) {
+    star.tets.push_back(t.tets[i]);
+    star.offsets.push_back(t.offsets[i]);
+  }
+  const double least = std::min(kOneSidedLift * shortest, max_lift);
+  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5)
+    for (const auto& [off, side] : targets) {
+      PeriodicTets trial = star;
+      for (int a = 0; a < 3; ++a) {
+        if (!(off >> a & 1u)) continue;
+        const bool below = side >> a & 1u;  // one period down, at 1 - h
+        trial.vertices[v][a] = below ? 1.0 - h : h;
+        for (std::size_t k = 0; k < inc.size(); ++k) {
+          std::int8_t& o = trial.offsets[k][inc[k].second][a];
+          o = std::int8_t(o - (below ? 1 : 0));
+        }
+      }
+      bool ok = true;
+      for (std::size_t k = 0; k < inc.size() && ok; ++k)
+        ok = volume_of(trial, k) >= 0.5 * before[k];
+      if (!ok) continue;
+      CellFaceCut stats;
+      for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
+      double lowest = 180.0;
+      for (std::size_t i = 0; i < trial.tets.size(); ++i)
+        lowest = std::min(lowest, tet_min_dihedral(trial, i));
+      if (stats.degenerate || lowest < bound) continue;
+      std::vector<char> replaced(t.tets.size(), 0);
+      for (const auto& [i, q] : inc) replaced[i] = 1;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < t.tets.size(); ++i) {
+        if (replaced[i]) continue;
+        t.tets[kept] = t.tets[i];
+        t.offsets[kept] = t.offsets[i];
+        ++kept;
+      }
+      t.tets.resize(kept);
+      t.offsets.resize(kept);
+      t.tets.insert(t.tets.end(), trial.tets.begin(), trial.tets.end());
+      t.offsets.insert(t.offsets.end(), trial.offsets.begin(), trial.offsets.end());
+      t.vertices = std::move(trial.vertices);
+      recut += stats.split_tets;
+      moved = std::max(moved, h);
+      return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
-                                                  double min_edge, double max_edge) {
+                                                  double min_edge, double max_edge,
+                                                  double floor_deg) {
   OneSidedFaceVertices s;
   std::vector<std::vector<std::pair<std::size_t, int>>> incident(t.vertices.size());
   for (std::size_t i = 0; i < t.tets.size(); ++i)
@@ -353,6 +529,7 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     }
     return false;
   };
+  std::vector<std::size_t> in_l;  // left on faces with tets in some cells around them
   for (std::size_t v = 0; v < t.vertices.size(); ++v) {  // grows by the copies below
     const unsigned planes = planes_of(v);
     if (!planes || incident[v].empty()) continue;
@@ -402,8 +579,19 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     const unsigned left = planes_of(v);
     unsigned now = 0;
     for (const auto& [i, q] : incident[v]) now |= 1u << cell_of(i, q, left);
-    s.left += left && now != all_cells(left);
+    if (left && now != all_cells(left)) in_l.push_back(v);
   }
+  // L vertices off the faces, each tried on a copy of its tets.
+  if (!in_l.empty()) {
+    double lowest = 180.0;
+    for (std::size_t i = 0; i < t.tets.size(); ++i)
+      lowest = std::min(lowest, tet_min_dihedral(t, i));
+    const double bound = std::min(floor_deg, lowest);
+    for (std::size_t v : in_l)
+      s.moved_into_cell +=
+          move_into_middle_cell(t, v, max_lift, bound, s.recut_tets, s.max_cell_move);
+  }
+  s.left = in_l.empty() ? 0 : face_vertices_in_part_of_cells(t);
   return s;
 }
 

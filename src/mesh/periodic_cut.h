@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include "mesh/tet_mesh.h"
+#include "mesh/tet_sizing.h"
 
 namespace cmcsurf {
 
@@ -47,12 +48,23 @@ struct OneSidedFaceVertices {
   std::size_t lifted = 0;  // moved off the face
   std::size_t split = 0;   // copies made of pinching vertices (diagonal cells)
   double max_lift = 0.0;   // unit cells
-  // Left on a face with tets in some of the cells around them but not all and on both sides
-  // of each face (in an L around an edge of the box), or where a lift would flatten a tet:
-  // some of their images in the box lack a partner.
+  // On a box edge or corner with tets on both sides of each face but not in every cell
+  // around it (an L around an edge; 7 of 8 cells at a corner): moved off faces, into the cell
+  // joined across faces to the most others or else off fewer faces to where its tets fill
+  // every cell around it, by up to kDefaultCellFaceSnap of its shortest edge (the snap's
+  // reach: a move of the lift's size leaves pieces as thin as it, under 1 degree), and the
+  // tets in the other cells re-cut at those faces; kept only if no changed tet falls below
+  // min(floor_deg, the smallest dihedral angle of the mesh before).
+  std::size_t moved_into_cell = 0;
+  std::size_t recut_tets = 0;   // tets split by those re-cuts
+  double max_cell_move = 0.0;   // the largest distance off a face, unit cells
+  // Left on a face with tets in some of the cells around them but not all: an L vertex whose
+  // move would flatten a tet or leave one below the quality floor, or a refused lift. Some of
+  // their images in the box lack a partner.
   std::size_t left = 0;
 };
 OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
-                                                  double min_edge = 0.0, double max_edge = 0.0);
+                                                  double min_edge = 0.0, double max_edge = 0.0,
+                                                  double floor_deg = kSizingFloorDeg);
 
 }  // namespace cmcsurf

@@ -265,6 +265,9 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                 {"lifted_vertices", lifted.lifted},
                 {"split_face_vertices", lifted.split},
                 {"max_lift", lifted.max_lift * L},
+                {"l_vertices_moved_into_cell", lifted.moved_into_cell},
+                {"recut_tets", lifted.recut_tets},
+                {"max_cell_move", lifted.max_cell_move * L},
                 {"face_vertices_left_unpaired", lifted.left},
                 {"units", p.units}};
   else
