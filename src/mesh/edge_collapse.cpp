@@ -508,14 +508,13 @@ class Collapser {
     return f;
   }
 
-  // As the reference's best_position.
+  // As the reference's best_position; u's own cost is evaluated only where it is used.
   double best_position(std::uint32_t u, std::uint32_t w, Vec3& best) const {
     Quadric q = quadric_[u];
     q += quadric_[w];
     const double per_plane = 1.0 / std::max(q.planes, 1.0);
     best = pos_[u];
-    double cost = q(best);
-    if (locked_[u]) return cost * per_plane;
+    if (locked_[u]) return q(best) * per_plane;
     const Vec3 mid{0.5 * (pos_[u][0] + pos_[w][0]), 0.5 * (pos_[u][1] + pos_[w][1]),
                    0.5 * (pos_[u][2] + pos_[w][2])};
     Vec3 opt;
@@ -523,6 +522,7 @@ class Collapser {
       best = opt;
       return q(opt) * per_plane;
     }
+    double cost = q(best);
     for (const Vec3& c : {pos_[w], mid})
       if (const double e = q(c); e < cost) cost = e, best = c;
     return cost * per_plane;
@@ -625,8 +625,8 @@ class Collapser {
     drop_dead(ta);
     drop_dead(around_[opposite[0]]);
     drop_dead(around_[opposite[1]]);
+    // Cleared, not freed: a free per collapse cost more than the memory, held from the start.
     around_[b].clear();
-    around_[b].shrink_to_fit();
     alive_ -= 2;
     pos_[a] = p;
     quadric_[a] += quadric_[b];
