@@ -115,13 +115,14 @@ TEST(Measures, EquilibriumResidualOfBulkAndOfTheOtherPhase) {
 
 // The history's fused pass against the five functions it replaces: the same bits (a step's
 // history.csv and the stop rule must not change), at one and two threads (two partial sums add
-// in either order to the same bits), below kParallelMinN (mass then adds its planes serially)
-// and above it, with a slab split unevenly (34 planes on 2 threads is even, 37 is not).
+// in either order to the same bits), below kParallelMinN (mass then adds its planes serially;
+// summed in two halves instead, the mass differs in its last bit at 24 and 30: tried) and above
+// it, with a slab split unevenly (34 planes on 2 threads is even, 37 is not).
 TEST(Measures, StepMeasuresMatchTheSeparateFunctionsBitForBit) {
   const int saved = omp_get_max_threads();
   for (const int threads : {1, 2}) {
     omp_set_num_threads(threads);
-    for (const int n : {8, 16, kParallelMinN + 2, kParallelMinN + 5}) {
+    for (const int n : {8, 12, 16, 20, 24, 30, kParallelMinN + 2, kParallelMinN + 5}) {
       const Field phi = random_field(n, 3, 0.05);
       Field before = Field::like(phi, 0);
       const Field other = random_field(n, 4, 0.05);
