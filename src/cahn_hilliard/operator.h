@@ -81,6 +81,16 @@ double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi
 double nso_residual_norm_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
                              const Field& rhs_nu, const ChParams& p);
 
+// The start of a time step in one pass: ch_source(phi_n, p.dt) into (src_phi, src_nu), phi_n's
+// interior copied into guess, and the defect norm of (guess, nu) against that source, i.e.
+// nso_residual_norm after the copy with guess's halo exchanged; the same bits as those three
+// (the source rows are formed and read back while in cache). phi_n's and nu's ghosts must be
+// valid; guess's ghosts are stale on return.
+double ch_source_first_defect(const Field& phi_n, const Field& nu, const ChParams& p,
+                              Field& src_phi, Field& src_nu, Field& guess);
+double ch_source_first_defect_ref(const Field& phi_n, const Field& nu, const ChParams& p,
+                                  Field& src_phi, Field& src_nu, Field& guess);
+
 // restrict_average(rhs - NSO(u)) into the coarse fields (n/2, interiors) without storing the
 // fine defect: the four fine rows under a coarse row are formed in buffers and averaged as
 // restrict_average averages them, so the bits are those of nso_residual then restrict_average

@@ -89,6 +89,32 @@ TEST(CahnHilliard, SourceMatchesReference) {
   EXPECT_EQ(testing::max_abs(a2), 0.0);
 }
 
+// The step's first pass against the source, the copy and the norm it replaces: the same bits
+// (the step's V-cycle count and stop depend on this norm), at one and two threads, below
+// kParallelMinN (serial there) and above it with an uneven slab split.
+TEST(CahnHilliard, SourceFirstDefectMatchesSeparatePassesBitForBit) {
+  const int saved_threads = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    for (const int n : {8, 16, kParallelMinN + 3}) {
+      const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+      // As in a step: phi^n with the measures' two ghost layers, the solver's fields with one.
+      const Field phi = random_field(n, 2, 0, 1, 40), nu = random_field(n, 1, -0.1, 0.1, 41);
+      Field a1 = random_field(n, 1, -1, 1, 42), a2 = a1, b1 = a1, b2 = a1;
+      Field ga = random_field(n, 1, -1, 1, 43), gb = ga;
+      const double fused = ch_source_first_defect(phi, nu, p, a1, a2, ga);
+      const double ref = ch_source_first_defect_ref(phi, nu, p, b1, b2, gb);
+      const std::string what = fmt::format("n {} threads {}", n, threads);
+      EXPECT_GT(ref, 0.1) << what;
+      EXPECT_EQ(fused, ref) << what;
+      EXPECT_EQ(max_abs_diff(a1, b1), 0.0) << what;
+      EXPECT_EQ(max_abs_diff(a2, b2), 0.0) << what;
+      EXPECT_EQ(max_abs_diff(ga, phi), 0.0) << what;
+    }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
 TEST(CahnHilliard, DefectNormMatchesReference) {
   const int n = kTwinN;
   const Field d1 = random_field(n, 1, -100, 100, 32), d2 = random_field(n, 1, -1, 1, 33);

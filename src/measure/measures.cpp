@@ -346,15 +346,21 @@ double mean_curvature_mu_ref(const Field& phi, double epsilon) {
 
 double equilibrium_residual(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "equilibrium_residual");
+  // Two passes, the mean first: the spread is small beside nu itself.
+  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
+  return equilibrium_residual(phi, epsilon, WeightedNuSums{sum_nw, sum_w});
+}
+
+double equilibrium_residual(const Field& phi, double epsilon, const WeightedNuSums& sums) {
+  require_ghost(phi, 2, "equilibrium_residual");
   CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double inv_h2 = 1.0 / (h * h);
   const double eps2 = epsilon * epsilon;
-  // Two passes, the mean first: the spread is small beside nu itself.
-  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
+  const double sum_w = sums.w;
   if (sum_w == 0.0) return 0.0;
-  const double mean_nu = sum_nw / sum_w;
+  const double mean_nu = sums.nu_w / sum_w;
   const double sum_dw = sum_cells(phi, [=](const double* p) {
     const double d = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2) - mean_nu;
     return d * d * grad4_sq_scaled(p, sy, sz);
@@ -402,6 +408,97 @@ double energy_ref(const Field& phi, double epsilon) {
            h * h * h;
   });
   return phi.sum_over_ranks(sum);
+}
+
+// One pass for the history (see measures.h). Each quantity has its own inner loop over the
+// row, written as its function's, so that it vectorises and adds in the same order; the rows
+// come from the cache after the first. area and energy add rows into a plane sum as sum_cells
+// does, l2_diff and weighted_nu_sums add rows straight into the thread's sum, and mass (mean)
+// runs serially below kParallelMinN: its plane sums are then added in order after the loop.
+StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums) {
+  require_ghost(phi, 2, "step_measures");
+  CMCSURF_DCHECK(halo_is_current(phi));
+  if (before.n() != phi.n() || before.size() != phi.size())
+    throw std::invalid_argument("step_measures: fields of different size");
+  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
+  const double h = phi.h();
+  const double c_grad = 0.5 * epsilon / (h * h);
+  const double inv_eps = 1.0 / epsilon;
+  const double inv_h2 = 1.0 / (h * h);
+  const double eps2 = epsilon * epsilon;
+  const bool mass_parallel = nx >= kParallelMinN;
+  std::vector<double> mass_planes(mass_parallel ? 0 : nz);
+  double s_area = 0.0, s_energy = 0.0, s_mass = 0.0, s_diff = 0.0, s_nw = 0.0, s_w = 0.0;
+#pragma omp parallel for reduction(+ : s_area, s_energy, s_mass, s_diff, s_nw, s_w) \
+    schedule(static)
+  for (int k = 0; k < nz; ++k) {
+    double plane_area = 0.0, plane_energy = 0.0, plane_mass = 0.0;
+    for (int j = 0; j < ny; ++j) {
+      const double* row = &phi(0, j, k);
+      const double* old_row = &before(0, j, k);
+      double a = 0.0, e = 0.0, m = 0.0, d = 0.0;
+#pragma omp simd reduction(+ : a)
+      for (int i = 0; i < nx; ++i) a += grad4_sq_scaled(row + i, sy, sz);
+#pragma omp simd reduction(+ : e)
+      for (int i = 0; i < nx; ++i) {
+        const double* p = row + i;
+        const double dx = p[1] - p[0], dy = p[sy] - p[0], dz = p[sz] - p[0];
+        e += double_well(p[0]) * inv_eps + c_grad * (dx * dx + dy * dy + dz * dz);
+      }
+#pragma omp simd reduction(+ : m)
+      for (int i = 0; i < nx; ++i) m += row[i];
+#pragma omp simd reduction(+ : d)
+      for (int i = 0; i < nx; ++i) d += (row[i] - old_row[i]) * (row[i] - old_row[i]);
+      plane_area += a;
+      plane_energy += e;
+      plane_mass += m;
+      s_diff += d;
+      if (nu_sums) {
+        double nw = 0.0, w = 0.0;
+#pragma omp simd reduction(+ : nw, w)
+        for (int i = 0; i < nx; ++i) {
+          const double* p = row + i;
+          const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
+          const double g = grad4_sq_scaled(p, sy, sz);
+          nw += nu * g;
+          w += g;
+        }
+        s_nw += nw;
+        s_w += w;
+      }
+    }
+    s_area += plane_area;
+    s_energy += plane_energy;
+    if (mass_parallel)
+      s_mass += plane_mass;
+    else
+      mass_planes[std::size_t(k)] = plane_mass;
+  }
+  for (const double m : mass_planes) s_mass += m;
+  double sums[6] = {s_area, s_energy, s_mass, s_diff, s_nw, s_w};
+  phi.sum_over_ranks(sums, 6);
+  StepMeasures r;
+  r.area = kSixSqrt2 * epsilon * sums[0] / (144.0 * h * h) * h * h * h;
+  r.energy = kSixSqrt2 * sums[1] * h * h * h;
+  r.mass = sums[2] / phi.global_cells();
+  r.d_phi = std::sqrt(sums[3] / phi.global_cells());
+  if (nu_sums) r.nu_sums = WeightedNuSums{sums[4], sums[5]};
+  return r;
+}
+
+StepMeasures step_measures_ref(const Field& phi, const Field& before, double epsilon,
+                               bool nu_sums) {
+  StepMeasures r;
+  r.area = area(phi, epsilon);
+  r.energy = energy(phi, epsilon);
+  r.mass = mass(phi);
+  r.d_phi = l2_diff(phi, before);
+  if (nu_sums) {
+    const auto [nw, w] = weighted_nu_sums(phi, epsilon);
+    r.nu_sums = WeightedNuSums{nw, w};
+  }
+  return r;
 }
 
 }  // namespace cmcsurf

@@ -67,4 +67,28 @@ double mean_curvature_mu_ref(const Field& phi, double epsilon);  // plain loop t
 double equilibrium_residual(const Field& phi, double epsilon);
 double equilibrium_residual_ref(const Field& phi, double epsilon);  // plain loop twin
 
+// The sums of nu |grad_d phi|^2 and of |grad_d phi|^2 over the grid, from which
+// mean_curvature_mu and equilibrium_residual start.
+struct WeightedNuSums {
+  double nu_w = 0.0;
+  double w = 0.0;
+};
+// equilibrium_residual's second pass, from sums a fused pass already took (step_measures).
+double equilibrium_residual(const Field& phi, double epsilon, const WeightedNuSums& sums);
+
+// What the time-step history records of each step, and the stop rule's first sums.
+struct StepMeasures {
+  double area = 0.0;
+  double energy = 0.0;
+  double mass = 0.0;
+  double d_phi = 0.0;  // l2_diff(phi, before)
+  WeightedNuSums nu_sums;  // zero unless asked for
+};
+// area, energy, mass, l2_diff(phi, before) and, with nu_sums, the weighted sums of nu, in one
+// pass over phi instead of five: each value has the same bits as its own function's (each sum
+// keeps its own order of additions). Needs ghost >= 2 and a current halo; before: interior.
+StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums);
+StepMeasures step_measures_ref(const Field& phi, const Field& before, double epsilon,
+                               bool nu_sums);  // the separate functions
+
 }  // namespace cmcsurf

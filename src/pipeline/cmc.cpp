@@ -343,8 +343,9 @@ class Evolution {
     result_.prerelax_steps = params_.prerelax_steps;
   }
 
-  // One step at the stepper's epsilon and dt, recorded in the history.
-  StepRecord advance(RunStage stage, double area_before) {
+  // One step at the stepper's epsilon and dt, recorded in the history. With nu_sums the
+  // history's pass also takes the stop rule's first sums (last_nu_sums_).
+  StepRecord advance(RunStage stage, double area_before, bool nu_sums = false) {
     Field& phi = result_.phi;
     const double eps = stepper_.params().epsilon;
     const double dt = stepper_.params().dt;
@@ -368,11 +369,17 @@ class Evolution {
     r.stage = stage;
     r.time = time_;
     r.dt = dt;
-    r.area = area(phi, eps);
+    // The equilibrium rule measures at params_.epsilon; a stepper at another gets none.
+    nu_sums_valid_ = nu_sums && eps == params_.epsilon;
+    const StepMeasures m = step_measures(
+        phi, stepper_.phi_before_step() ? *stepper_.phi_before_step() : previous_, eps,
+        nu_sums_valid_);
+    last_nu_sums_ = m.nu_sums;
+    r.area = m.area;
     r.d_area = r.area - area_before;
-    r.d_phi = l2_diff(phi, stepper_.phi_before_step() ? *stepper_.phi_before_step() : previous_);
-    r.energy = energy(phi, eps);
-    r.mass = mass(phi);
+    r.d_phi = m.d_phi;
+    r.energy = m.energy;
+    r.mass = m.mass;
     r.volume_fraction = sharp_volume_fraction(phi);
     r.vcycles = s.vcycles;
     r.residual = s.residual;
@@ -434,7 +441,7 @@ class Evolution {
       mark(stage, taken, dt, a, v);
       stepper_.set_dt(dt);
       const double step_dt = dt;
-      const StepRecord r = advance(stage, a);
+      const StepRecord r = advance(stage, a, equilibrium);
       dt = last_step_converged_ ? std::min(dt_max, 2.0 * dt) : std::max(dt0, 0.5 * dt);
       a = r.area;
       ++taken;
@@ -442,7 +449,9 @@ class Evolution {
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
       if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
-        met = equilibrium_residual(result_.phi, params_.epsilon) <= params_.equilibrium_tol;
+        met = (nu_sums_valid_ ? equilibrium_residual(result_.phi, params_.epsilon, last_nu_sums_)
+                              : equilibrium_residual(result_.phi, params_.epsilon)) <=
+              params_.equilibrium_tol;
       if (volume_rate > 0.0) {
         met = met && std::abs(r.volume_fraction - v) <= volume_rate;
         v = r.volume_fraction;
@@ -590,6 +599,9 @@ class Evolution {
   bool resuming_ = false;
   std::optional<ComponentConstraint> components_;
   std::optional<AndersonMixer> anderson_;
+  // The last step's weighted sums of nu (step_measures), valid when it took them.
+  WeightedNuSums last_nu_sums_;
+  bool nu_sums_valid_ = false;
   Field unmixed_;  // the step's field while a mix is tried
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
