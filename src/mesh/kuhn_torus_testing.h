@@ -76,6 +76,24 @@ inline PeriodicTets kuhn_torus(int m, double shift = 0.37, double jitter = 0.0,
   return t;
 }
 
+// The lower half (in z) of the jittered Kuhn torus (jitter 0.15): a slab whose two boundary
+// layers are the solid's surface.
+inline PeriodicTets kuhn_torus_slab(int m, unsigned seed) {
+  const PeriodicTets whole = kuhn_torus(m, 0.37, 0.15, seed);
+  PeriodicTets t;
+  t.vertices = whole.vertices;
+  for (std::size_t i = 0; i < whole.tets.size(); ++i) {
+    double z = 0.0;
+    for (int q = 0; q < 4; ++q)
+      z += 0.25 * (whole.vertices[std::size_t(whole.tets[i][q])][2] + whole.offsets[i][q][2]);
+    if (z - std::floor(z) < 0.5) {
+      t.tets.push_back(whole.tets[i]);
+      t.offsets.push_back(whole.offsets[i]);
+    }
+  }
+  return t;
+}
+
 // The whole torus unfolded (unfold_periodic_tets, after cut_at_cell_faces too) fills a block of the
 // given volume to round-off, positive tets in one piece, its periodic faces matched face for
 // face and its cut nodes paired with points one period away.

@@ -10,23 +10,6 @@
 namespace cmcsurf {
 namespace {
 
-// Half of the jittered Kuhn torus: a slab whose two boundary layers are the solid's surface.
-PeriodicTets slab(int m, unsigned seed) {
-  const PeriodicTets whole = kuhn_torus(m, 0.37, 0.15, seed);
-  PeriodicTets t;
-  t.vertices = whole.vertices;
-  for (std::size_t i = 0; i < whole.tets.size(); ++i) {
-    double z = 0.0;
-    for (int q = 0; q < 4; ++q)
-      z += 0.25 * (whole.vertices[std::size_t(whole.tets[i][q])][2] + whole.offsets[i][q][2]);
-    if (z - std::floor(z) < 0.5) {
-      t.tets.push_back(whole.tets[i]);
-      t.offsets.push_back(whole.offsets[i]);
-    }
-  }
-  return t;
-}
-
 // The flat box's checks of an unfolding: mirrored planar faces, every plane node paired.
 void expect_flat_box(const TetMeshStats& m) {
   EXPECT_EQ(m.inverted, 0u);
@@ -85,7 +68,7 @@ TEST(TetSizing, SplitsLongEdgesAndKeepsTheFlatMirroredBox) {
 // surface passes within the facet distance of it: with distance 0, only within the jagged
 // surface's flat patches, so the volume stays the same to round-off.
 TEST(TetSizing, SurfaceCollapsesKeepTheSurfaceWithinTheFacetDistance) {
-  PeriodicTets t = slab(6, 3);
+  PeriodicTets t = kuhn_torus_slab(6, 3);
   cut_at_cell_faces(t, 0.0);
   const double volume = torus_volume(t);
   const TetMeshStats m0 = analyze_tet_mesh(unfold_periodic_tets(t, {1, 1, 1}, 1.0));
@@ -100,7 +83,7 @@ TEST(TetSizing, SurfaceCollapsesKeepTheSurfaceWithinTheFacetDistance) {
   EXPECT_EQ(m.components_periodic, m0.components_periodic);
   EXPECT_EQ(m.surface_faces, m0.surface_faces);  // interior collapses leave the surface
   // With a facet distance, more go, and the volume moves by at most that times the area.
-  PeriodicTets u = slab(6, 3);
+  PeriodicTets u = kuhn_torus_slab(6, 3);
   cut_at_cell_faces(u, 0.0);
   const EdgeSizing su = enforce_edge_sizes(u, {0.03, 0.0, 0.01});
   EXPECT_GT(su.collapsed, s.collapsed);
@@ -115,7 +98,7 @@ TEST(TetSizing, SurfaceCollapsesKeepTheSurfaceWithinTheFacetDistance) {
 // L of the cells around it moved into the L's middle cell and re-cut, every plane node is
 // paired and opposite planes hold as many nodes.
 TEST(TetSizing, OneSidedFaceVerticesAreLiftedSoTheirPlaneNodesArePaired) {
-  PeriodicTets t = slab(6, 3);
+  PeriodicTets t = kuhn_torus_slab(6, 3);
   cut_at_cell_faces(t);
   const double volume = torus_volume(t);
   const TetMeshStats m0 = analyze_tet_mesh(unfold_periodic_tets(t, {1, 1, 1}, 1.0));

@@ -61,18 +61,7 @@ TEST(TetSmooth, RaisesTheSmallestAngleAndKeepsTheFlatMirroredBox) {
 // Half of the torus (a slab, whose two boundary planes are the solid's surface): the surface
 // vertices stay where they are and so does the volume.
 TEST(TetSmooth, KeepsTheSurfaceVertices) {
-  PeriodicTets whole = kuhn_torus(6, 0.37, 0.15, 3);
-  PeriodicTets t;
-  t.vertices = whole.vertices;
-  for (std::size_t i = 0; i < whole.tets.size(); ++i) {
-    double z = 0.0;
-    for (int q = 0; q < 4; ++q)
-      z += 0.25 * (whole.vertices[std::size_t(whole.tets[i][q])][2] + whole.offsets[i][q][2]);
-    if (z - std::floor(z) < 0.5) {
-      t.tets.push_back(whole.tets[i]);
-      t.offsets.push_back(whole.offsets[i]);
-    }
-  }
+  PeriodicTets t = kuhn_torus_slab(6, 3);
   cut_at_cell_faces(t);
   const double volume = torus_volume(t);
   const TetMeshStats m0 = analyze_tet_mesh(unfold_periodic_tets(t, {1, 1, 1}, 1.0));
