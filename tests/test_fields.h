@@ -3,11 +3,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "grid/field.h"
 
 namespace cmcsurf::testing {
+
+inline constexpr double kPi = std::numbers::pi;
+
+// The equilibrium tanh profile of Section 2.5 at signed distance d (> 0 in phase 1).
+inline double tanh_profile(double d, double epsilon) {
+  return 0.5 * (1.0 + std::tanh(d / (2.0 * std::numbers::sqrt2 * epsilon)));
+}
 
 // Uniform values in [lo, hi], reproducible, halo exchanged.
 inline Field random_field(int n, int ghost, double lo, double hi, unsigned seed) {

@@ -10,15 +10,13 @@
 
 #include <gtest/gtest.h>
 
+#include "support/file_text.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using testing::slurp;
 
 std::vector<std::string> entries(const std::filesystem::path& dir) {
   std::vector<std::string> names;

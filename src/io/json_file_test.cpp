@@ -10,15 +10,13 @@
 
 #include "common/atomic_file.h"
 #include "support/read_json.h"
+#include "support/file_text.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using testing::slurp;
 
 TEST(IoJson, RoundTripPrettyWithTrailingNewline) {
   TempDir tmp;

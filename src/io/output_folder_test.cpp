@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/file_text.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {
@@ -15,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void spit(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+using testing::spit;
 
 std::string message_of(const fs::path& dir, const ClaimOptions& o, bool* usage = nullptr) {
   try {

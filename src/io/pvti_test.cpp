@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "../tests/test_fields.h"
+#include "support/file_text.h"
 #include "support/temp_dir.h"
 
 // One process: a whole field is one piece (tests/mpi/pvti_test.cpp writes several, under
@@ -17,14 +18,8 @@
 namespace cmcsurf {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void spit(const std::filesystem::path& p, const std::string& s) {
-  std::ofstream(p, std::ios::binary) << s;
-}
+using testing::slurp;
+using testing::spit;
 
 bool bit_equal_interiors(const Field& a, const Field& b) {
   if (a.n() != b.n() || a.size() != b.size()) return false;

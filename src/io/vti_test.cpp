@@ -14,15 +14,13 @@
 #include <gtest/gtest.h>
 
 #include "common/atomic_file.h"
+#include "support/file_text.h"
 #include "support/temp_dir.h"
 
 namespace cmcsurf {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using testing::slurp;
 
 Field random_field(int n, unsigned seed) {
   Field f(n, 1);

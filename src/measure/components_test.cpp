@@ -15,12 +15,9 @@
 namespace cmcsurf {
 namespace {
 
+using testing::kPi;
 using testing::sample_at_centres;
-constexpr double kPi = std::numbers::pi;
-
-double profile(double d, double eps) {
-  return 0.5 * (1.0 + std::tanh(d / (2.0 * std::numbers::sqrt2 * eps)));
-}
+using testing::tanh_profile;
 
 // Balls of radii 0.15 (label 0: met first, lower z) and 0.2, as in SharpSurface's test of
 // local curvature.
@@ -28,7 +25,7 @@ Field two_balls(int n) {
   return sample_at_centres(n, 2, [](double x, double y, double z) {
     const double d1 = 0.15 - std::hypot(x - 0.25, y - 0.25, z - 0.25);
     const double d2 = 0.2 - std::hypot(x - 0.7, y - 0.7, z - 0.7);
-    return profile(std::max(d1, d2), 0.01);
+    return tanh_profile(std::max(d1, d2), 0.01);
   });
 }
 

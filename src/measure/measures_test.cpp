@@ -15,25 +15,19 @@
 namespace cmcsurf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 constexpr double kSqrt2 = std::numbers::sqrt2;
 
-template <class F>
-Field sample(int n, int ghost, F f) {
-  return testing::sample_at_centres(n, ghost, f);
-}
+using testing::sample_at_centres;
 
-// The tanh profile q(d / (2 sqrt2 eps)) of Section 2.5, d = signed distance, > 0 in phase 1.
-double profile(double d, double epsilon) {
-  return 0.5 * (1.0 + std::tanh(d / (2.0 * kSqrt2 * epsilon)));
-}
+using testing::tanh_profile;
 
 // Section 4.3's initial sphere: phase 1 inside radius r around the centre of the cell.
 Field tanh_sphere(int n, double r, double epsilon) {
-  return sample(n, 2, [=](double x, double y, double z) {
+  return sample_at_centres(n, 2, [=](double x, double y, double z) {
     const double rho =
         std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) + (z - 0.5) * (z - 0.5));
-    return profile(r - rho, epsilon);
+    return tanh_profile(r - rho, epsilon);
   });
 }
 
@@ -52,7 +46,7 @@ Field random_field(int n, unsigned seed, double noise) {
     a[m] = 0.2 * u(gen);
     for (int d = 0; d < 3; ++d) ph[m][d] = kPi * u(gen);
   }
-  Field phi = sample(n, 2, [&](double x, double y, double z) {
+  Field phi = sample_at_centres(n, 2, [&](double x, double y, double z) {
     double v = 0.5;
     for (int m = 0; m < 4; ++m)
       v += a[m] * std::sin(2 * kPi * (m + 1) * x + ph[m][0]) *
@@ -172,12 +166,13 @@ TEST(Measures, StencilsNeedTwoGhostLayers) {
 TEST(Measures, MassAndVolumeFractionOfSimpleFields) {
   const int n = 8;
   // phi = 1 on the half x < 1/2, 0 elsewhere.
-  Field half = sample(n, 1, [](double x, double, double) { return x < 0.5 ? 1.0 : 0.0; });
+  Field half =
+      sample_at_centres(n, 1, [](double x, double, double) { return x < 0.5 ? 1.0 : 0.0; });
   EXPECT_DOUBLE_EQ(mass(half), 0.5);
   EXPECT_DOUBLE_EQ(volume_fraction(half), 0.5);
 
   // One octant of phase 1 in a sea of 0.3: mass = 1/8 + 7/8 * 0.3, V = 1/8.
-  Field octant = sample(n, 1, [](double x, double y, double z) {
+  Field octant = sample_at_centres(n, 1, [](double x, double y, double z) {
     return (x < 0.5 && y < 0.5 && z < 0.5) ? 1.0 : 0.3;
   });
   EXPECT_NEAR(mass(octant), 0.125 + 0.875 * 0.3, 1e-15);
@@ -209,7 +204,8 @@ TEST(Measures, L2Norms) {
   EXPECT_DOUBLE_EQ(l2_diff(a, a), 0.0);
 
   // Single mode: sum of sin^2 over a full period of N > 2 samples is exactly N / 2.
-  Field s = sample(n, 1, [](double x, double, double) { return 3.0 * std::sin(2 * kPi * x); });
+  Field s = sample_at_centres(
+      n, 1, [](double x, double, double) { return 3.0 * std::sin(2 * kPi * x); });
   EXPECT_NEAR(l2_norm(s), 3.0 / kSqrt2, 1e-14);
 
   Field other(n + 1, 1);
@@ -232,8 +228,8 @@ TEST(Measures, EnergyAndAreaOfSingleModeAreExact) {
   //  4th-order central:    D phi = a g cos, g = (8 sin(2 pi h) - sin(4 pi h)) / (6 h).
   const int n = 16;
   const double c = 0.5, amp = 0.4, epsilon = 0.02, h = 1.0 / n;
-  Field phi =
-      sample(n, 2, [=](double x, double, double) { return c + amp * std::sin(2 * kPi * x); });
+  Field phi = sample_at_centres(
+      n, 2, [=](double x, double, double) { return c + amp * std::sin(2 * kPi * x); });
   double well = 0.0;
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
@@ -273,10 +269,10 @@ TEST(Measures, SphereAtPaperResolution) {
   EXPECT_LT(h_mu, 1.23 / r);
   EXPECT_NEAR(volume_fraction(phi), 4.0 / 3.0 * kPi * r * r * r, 0.003);
   // Inverting the phases flips the sign of both curvature estimators.
-  Field inverted = sample(64, 2, [&](double x, double y, double z) {
+  Field inverted = sample_at_centres(64, 2, [&](double x, double y, double z) {
     const double rho =
         std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) + (z - 0.5) * (z - 0.5));
-    return profile(rho - r, epsilon);
+    return tanh_profile(rho - r, epsilon);
   });
   EXPECT_NEAR(mean_curvature(inverted), -h_kappa, 1e-9);
   EXPECT_NEAR(mean_curvature_mu(inverted, epsilon), -h_mu, 1e-9);
@@ -332,8 +328,8 @@ TEST(Measures, CylinderHasHalfTheCurvatureOfItsRadius) {
   // Continuum values for the tanh profile: the shell weight is linear in rho = R + s, so
   // A = 2 pi R and H = <1/(2 rho)> = 1/(2R) exactly (no <s^2> correction).
   const double big_r = 0.2, epsilon = 0.0146;
-  const Field phi = sample(64, 2, [=](double x, double y, double) {
-    return profile(big_r - std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5)), epsilon);
+  const Field phi = sample_at_centres(64, 2, [=](double x, double y, double) {
+    return tanh_profile(big_r - std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5)), epsilon);
   });
   // Measured at N = 64 (eps/h = 0.93): area 1.254301 (-0.19%), H 2.501443 (+0.06%);
   // at N = 128: -0.013% and +0.011%.
@@ -344,8 +340,9 @@ TEST(Measures, CylinderHasHalfTheCurvatureOfItsRadius) {
 TEST(Measures, SlabHasAreaTwoAndNoCurvature) {
   // Phase 1 on 0.25 < x < 0.75: two unit planes, H = 0.
   const double epsilon = 0.0146;
-  const Field phi = sample(
-      64, 2, [=](double x, double, double) { return profile(0.25 - std::abs(x - 0.5), epsilon); });
+  const Field phi = sample_at_centres(64, 2, [=](double x, double, double) {
+    return tanh_profile(0.25 - std::abs(x - 0.5), epsilon);
+  });
   // Planar tanh: A = 2 exactly in the continuum (tails ~ e^{-2 * 0.25 / (sqrt2 eps)} ~ 1e-10).
   // Fourth-order gradient error, largest for normals along a grid axis: measured 1.994379
   // (-0.28%) at eps/h = 0.93; 1.999619 at N = 128 (ratio 15).
@@ -364,10 +361,10 @@ TEST(Measures, InvariantUnderWholeCellShifts) {
   const int n = 32;
   const double epsilon = 0.0146;
   // An off-centre sphere overlapping the periodic boundary, plus low-amplitude noise.
-  Field phi = sample(n, 2, [=](double x, double y, double z) {
+  Field phi = sample_at_centres(n, 2, [=](double x, double y, double z) {
     auto wrap = [](double d) { return d - std::round(d); };
     const double dx = wrap(x - 0.9), dy = wrap(y - 0.3), dz = wrap(z - 0.55);
-    return profile(0.2 - std::sqrt(dx * dx + dy * dy + dz * dz), epsilon) +
+    return tanh_profile(0.2 - std::sqrt(dx * dx + dy * dy + dz * dz), epsilon) +
            0.01 * std::sin(2 * kPi * (x + 2 * y)) * std::cos(6 * kPi * z);
   });
   Field shifted(n, 2);

@@ -10,23 +10,20 @@
 namespace cmcsurf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 
 template <class F>
 Field sample(int n, F f) {
   return testing::sample_at_centres(n, 2, f);
 }
 
-// Equilibrium profile of Section 2.5 around a surface at signed distance d (> 0 in phase 1).
-double profile(double d, double epsilon) {
-  return 0.5 * (1.0 + std::tanh(d / (2.0 * std::numbers::sqrt2 * epsilon)));
-}
+using testing::tanh_profile;
 
 // A ball of phase 1 of radius r, centred off the grid's symmetry points.
 Field tanh_ball(int n, double r, double epsilon) {
   return sample(n, [=](double x, double y, double z) {
     const double dx = x - 0.5 - 0.013, dy = y - 0.5 + 0.021, dz = z - 0.5 - 0.007;
-    return profile(r - std::sqrt(dx * dx + dy * dy + dz * dz), epsilon);
+    return tanh_profile(r - std::sqrt(dx * dx + dy * dy + dz * dz), epsilon);
   });
 }
 
@@ -57,7 +54,7 @@ TEST(SharpSurface, TiltedPlanesAreFlatWithTheirExactArea) {
   // along the normal within the period cell of the lattice; area 2 sqrt5 per unit cell.
   const Field phi = sample(48, [](double x, double y, double) {
     const double s = std::sin(2 * kPi * (x + 2 * y));
-    return profile(std::asin(std::clamp(s, -1.0, 1.0)) / (2 * kPi * std::sqrt(5.0)), 0.01);
+    return tanh_profile(std::asin(std::clamp(s, -1.0, 1.0)) / (2 * kPi * std::sqrt(5.0)), 0.01);
   });
   const SharpMeasures m = sharp_measures(phi);
   EXPECT_NEAR(m.area, 2 * std::sqrt(5.0), 2e-3);
@@ -68,7 +65,7 @@ TEST(SharpSurface, TiltedPlanesAreFlatWithTheirExactArea) {
 TEST(SharpSurface, CylinderHasHalfItsCurvature) {
   const double r = 0.25;
   const Field phi = sample(64, [=](double x, double y, double) {
-    return profile(r - std::hypot(x - 0.5, y - 0.5), 0.01);
+    return tanh_profile(r - std::hypot(x - 0.5, y - 0.5), 0.01);
   });
   const SharpMeasures m = sharp_measures(phi);
   EXPECT_NEAR(m.area, 2 * kPi * r, 2e-3 * 2 * kPi * r);
@@ -82,7 +79,7 @@ TEST(SharpSurface, CurvatureIsLocal) {
                                        (z - 0.25) * (z - 0.25));
     const double d2 = 0.2 - std::sqrt((x - 0.7) * (x - 0.7) + (y - 0.7) * (y - 0.7) +
                                       (z - 0.7) * (z - 0.7));
-    return profile(std::max(d1, d2), 0.01);
+    return tanh_profile(std::max(d1, d2), 0.01);
   });
   std::vector<CurvatureSample> samples;
   sharp_measures(phi, &samples);
@@ -142,7 +139,7 @@ TEST(SharpSurface, GaussianCurvatureOfABallConvergesAndMeetsGaussBonnet) {
 TEST(SharpSurface, GaussianCurvatureOfACylinderAndOfPlanesVanishes) {
   const double r = 0.25;
   const Field cylinder = sample(64, [=](double x, double y, double) {
-    return profile(r - std::hypot(x - 0.5, y - 0.5), 0.01);
+    return tanh_profile(r - std::hypot(x - 0.5, y - 0.5), 0.01);
   });
   std::vector<CurvatureSample> samples;
   const SharpMeasures m = sharp_measures(cylinder, &samples);
@@ -176,7 +173,7 @@ TEST(SharpSurface, GaussBonnetOnATorusAndAGyroidLevelSet) {
 TEST(SharpSurface, TanhProfileInverseIsTheScaledDistance) {
   const double eps = 0.02;
   const Field phi = sample(
-      32, [=](double x, double, double) { return profile(0.1 * std::sin(2 * kPi * x), eps); });
+      32, [=](double x, double, double) { return tanh_profile(0.1 * std::sin(2 * kPi * x), eps); });
   Field psi = Field::like(phi, 2);
   tanh_profile_inverse(phi, psi);
   for (int i = 0; i < 32; ++i) {

@@ -12,12 +12,9 @@
 namespace cmcsurf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 
-template <class F>
-Field sample(int n, int ghost, F f) {
-  return testing::sample_at_centres(n, ghost, f);
-}
+using testing::sample_at_centres;
 
 // Fraction of the tetrahedron where sum_a lambda_a g_a > 0, by the midpoint rule on the
 // subdivision of the barycentric simplex into m^3 small simplices (counted by lattice points).
@@ -89,7 +86,7 @@ TEST(SharpVolume, PlanarSlabIsExact) {
     return std::clamp(0.5 + d / ramp, 0.0, 1.0);
   };
   for (int axis = 0; axis < 3; ++axis) {
-    const Field phi = sample(n, 2, [&](double x, double y, double z) {
+    const Field phi = sample_at_centres(n, 2, [&](double x, double y, double z) {
       return slab(axis == 0 ? x : axis == 1 ? y : z);
     });
     // Round-off of a sum over N^3 dual cells: bound N^3 eps_machine ~ 7e-12, observed 2e-14.
@@ -104,7 +101,7 @@ TEST(SharpVolume, PlanarSlabIsExact) {
 // split onto itself: the sharp volume of G + 1/2 is exactly 1/2.
 TEST(SharpVolume, OddFieldHasHalfVolume) {
   const int n = 20;
-  const Field phi = sample(n, 2, [](double x, double y, double z) {
+  const Field phi = sample_at_centres(n, 2, [](double x, double y, double z) {
     const double w = 2 * kPi;
     return 0.5 + std::sin(w * x) * std::cos(w * y) + std::sin(w * z) * std::cos(w * x) +
            std::sin(w * y) * std::cos(w * z);
@@ -122,7 +119,7 @@ TEST(SharpVolume, TanhSphereConverges) {
   double lin[3], sharp[3];
   const int grids[3] = {32, 64, 128};
   for (int g = 0; g < 3; ++g) {
-    const Field phi = sample(grids[g], 2, [=](double x, double y, double z) {
+    const Field phi = sample_at_centres(grids[g], 2, [=](double x, double y, double z) {
       const double d = std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) +
                                  (z - 0.5) * (z - 0.5));
       return 0.5 * (1.0 + std::tanh((r - d) / (2.0 * std::numbers::sqrt2 * epsilon)));
@@ -152,7 +149,7 @@ TEST(SharpVolume, AgreesWithCellCountToCellCountAccuracy) {
     }
     const double offset = 0.5 + 0.1 * u(gen);
     const int n = 32;
-    const Field phi = sample(n, 2, [&](double x, double y, double z) {
+    const Field phi = sample_at_centres(n, 2, [&](double x, double y, double z) {
       double v = offset;
       for (int m = 0; m < 4; ++m)
         v += amp[m] * std::cos(2 * kPi * ((m % 2 + 1) * x + ph[m][0])) *

@@ -17,14 +17,15 @@
 #include "mesh/tri_mesh.h"
 #include "mesh/writers.h"
 #include "surfaces/initial.h"
+#include "../../tests/test_fields.h"
 
 namespace cmcsurf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 
 // The nodal surface F + 1/2 (Eqs. 7-9), whose 1/2 level set is {F = 0}.
-Field nodal_field(const std::string& surface, int n) {
+Field nodal_phi(const std::string& surface, int n) {
   InitialFieldParams ip;
   ip.surface = surface;
   return make_initial_field(ip, n, 2);
@@ -90,7 +91,7 @@ TEST(MeshTopology, EulerCharacteristicPerCell) {
   const std::pair<const char*, long> expected[] = {{"P", -4}, {"D", -16}, {"G", -8}};
   for (const auto& [name, chi] : expected) {
     for (int n : {32, 48}) {
-      const MeshStats s = analyze_mesh(periodic_surface_mesh(nodal_field(name, n)));
+      const MeshStats s = analyze_mesh(periodic_surface_mesh(nodal_phi(name, n)));
       EXPECT_EQ(s.euler, chi) << name << " at " << n;
       expect_clean_closed(s);  // a closed surface on the torus
     }
@@ -119,7 +120,7 @@ TEST(MeshArea, AgreesWithFieldAreaMeasure) {
 // network solid stays closed and manifold.
 TEST(MeshTiling, TwoByTwoByTwoIsEightCells) {
   const int n = 24;
-  const Field phi = nodal_field("G", n);
+  const Field phi = nodal_phi("G", n);
   auto f = [&](int i, int j, int k) { return phi(i % n, j % n, k % n); };
   const double periodic = mesh_area(periodic_surface_mesh(phi));
   const MeshStats one = analyze_mesh(mesh_tiled(f, n, {1, 1, 1}, 1.0, 0.5, false));
@@ -145,7 +146,7 @@ TEST(MeshTiling, TwoByTwoByTwoIsEightCells) {
 // The tanh ball's solid matches volume_fraction() (a cell count) within 0.5 %.
 TEST(MeshSolid, NetworkVolumeIsVolumeFraction) {
   const int n = 32;
-  const Field p = nodal_field("P", n);
+  const Field p = nodal_phi("P", n);
   ScaffoldParams sp;
   sp.solid = SolidKind::kNetwork;
   sp.tiles = {2, 1, 1};
@@ -233,7 +234,7 @@ TEST(MeshSheet, ThicknessIsAchieved) {
 std::vector<GradedMember> shifted_gyroids(int n) {
   std::vector<GradedMember> members(2);
   for (int m = 0; m < 2; ++m) {
-    members[m].phi = nodal_field("G", n);
+    members[m].phi = nodal_phi("G", n);
     for_each_cell(n, [&](int i, int j, int k) { members[m].phi(i, j, k) += m == 0 ? -0.4 : 0.4; });
     members[m].volume_fraction = volume_fraction(members[m].phi);
   }

@@ -38,7 +38,7 @@ TEST(PeriodicCut, SplitTorusUnfoldsIntoTheBoxWithMirroredFaces) {
   // plane).
   for (double shift : {0.37, 0.0, 0.02})
     for (double jitter : {0.0, 0.15}) {
-      SCOPED_TRACE(testing::Message() << "shift " << shift << " jitter " << jitter);
+      SCOPED_TRACE(::testing::Message() << "shift " << shift << " jitter " << jitter);
       PeriodicTets torus = kuhn_torus(4, shift, jitter, 7);
       const std::size_t before = torus.tets.size();
       const CellFaceCut cut = cut_at_cell_faces(torus);

@@ -9,24 +9,16 @@
 #include <random>
 
 #include "properties/solid_fraction.h"
+#include "properties/operator_testing.h"
 
 namespace cmcsurf::properties {
 namespace {
 
-std::vector<double> random_solid(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.6, 1.6);
-  std::vector<double> s(std::size_t(n) * n * n);
-  for (double& v : s) v = std::clamp(u(rng), 0.0, 1.0);
-  return s;
-}
+using testing::random_clamped_solid;
 
-std::vector<double> random_vec(std::size_t m, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<double> v(m);
-  for (double& x : v) x = u(rng);
-  return v;
+// Plain vectors, as the multigrid takes them.
+std::vector<double> random_values(std::size_t m, unsigned seed) {
+  return testing::random_vec<std::vector<double>>(m, seed);
 }
 
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
@@ -38,12 +30,12 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 // Level 0 is A / mu + sigma on the fluid faces: the operator's plain twin with p = 0.
 TEST(VelocityMultigrid, FineLevelIsTheVelocityBlock) {
   for (int n : {6, 7}) {
-    const auto s = random_solid(n, 3 + n);
+    const auto s = random_clamped_solid(n, 3 + n);
     const double mu = 2.5, sigma = 0.03;
     const StokesOperator op(n, s, mu);
     const VelocityMultigrid mg(op, sigma);
     const std::size_t m = op.cells();
-    std::vector<double> x = random_vec(op.size(), 11), y(op.size());
+    std::vector<double> x = random_values(op.size(), 11), y(op.size());
     for (std::size_t q = 3 * m; q < 4 * m; ++q) x[q] = 0.0;
     op.apply_ref(x.data(), y.data());
     for (int c = 0; c < 3; ++c) {
@@ -63,7 +55,7 @@ TEST(VelocityMultigrid, FineLevelIsTheVelocityBlock) {
 // aggregates, the odd sizes' last layer alone), to the single precision of its stored stencil.
 TEST(VelocityMultigrid, CoarseLevelsAreHalfTheGalerkinProduct) {
   for (int n : {12, 13}) {
-    const StokesOperator op(n, random_solid(n, 5 + n));
+    const StokesOperator op(n, random_clamped_solid(n, 5 + n));
     const VelocityMultigrid mg(op, 0.01);
     ASSERT_EQ(mg.levels(), 3);
     EXPECT_EQ(mg.level_n(1), (n + 1) / 2);
@@ -71,7 +63,7 @@ TEST(VelocityMultigrid, CoarseLevelsAreHalfTheGalerkinProduct) {
     for (int l = 1; l < mg.levels(); ++l)
       for (int c = 0; c < 3; ++c) {
         const std::size_t mc = std::size_t(mg.level_n(l)) * mg.level_n(l) * mg.level_n(l);
-        const auto x = random_vec(mc, 7 + l + c);
+        const auto x = random_values(mc, 7 + l + c);
         std::vector<double> y(mc), y_ref(mc);
         mg.apply_level(l, c, x.data(), y.data());
         mg.apply_level_ref(l, c, x.data(), y_ref.data());
@@ -90,14 +82,14 @@ TEST(VelocityMultigrid, CoarseLevelsAreHalfTheGalerkinProduct) {
 TEST(VelocityMultigrid, CycleIsSymmetricPositiveDefinite) {
   for (int n : {16, 18}) {
     const auto s = n == 16 ? nodal_gyroid_solid_fraction(n, GyroidSolid::network, 0.7)
-                           : random_solid(n, 9);
+                           : random_clamped_solid(n, 9);
     const StokesOperator op(n, s);
     for (int cycles : {1, 2}) {
       VelocityMultigridOptions o;
       o.cycles = cycles;
       const VelocityMultigrid mg(op, 0.02, o);
       const std::size_t m3 = 3 * op.cells();
-      auto x = random_vec(m3, 1), y = random_vec(m3, 2);
+      auto x = random_values(m3, 1), y = random_values(m3, 2);
       for (std::size_t q = 0; q < m3; ++q)
         if (!op.fluid_face(int(q / op.cells()), q % op.cells())) x[q] = y[q] = 0.0;
       std::vector<double> mx(m3), my(m3);
@@ -114,11 +106,11 @@ TEST(VelocityMultigrid, CycleIsSymmetricPositiveDefinite) {
 // n <= 4 is its own coarsest level: the cycle is the exact inverse.
 TEST(VelocityMultigrid, SolvesTheCoarsestGridExactly) {
   const int n = 4;
-  const StokesOperator op(n, random_solid(n, 21));
+  const StokesOperator op(n, random_clamped_solid(n, 21));
   const VelocityMultigrid mg(op, 0.05);
   ASSERT_EQ(mg.levels(), 1);
   const std::size_t m = op.cells();
-  auto r = random_vec(3 * m, 4);
+  auto r = random_values(3 * m, 4);
   std::vector<double> z(3 * m), back(m);
   mg.apply(r.data(), z.data());
   for (int c = 0; c < 3; ++c) {
@@ -129,7 +121,7 @@ TEST(VelocityMultigrid, SolvesTheCoarsestGridExactly) {
 }
 
 TEST(VelocityMultigrid, RefusesBadOptions) {
-  const StokesOperator op(4, random_solid(4, 1));
+  const StokesOperator op(4, random_clamped_solid(4, 1));
   EXPECT_THROW(VelocityMultigrid(op, 0.0), std::invalid_argument);
   VelocityMultigridOptions o;
   o.omega = 1.2;

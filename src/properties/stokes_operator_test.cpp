@@ -10,31 +10,14 @@
 
 #include "properties/minres.h"
 #include "properties/stokes_preconditioner.h"
+#include "properties/operator_testing.h"
 
 namespace cmcsurf::properties {
 namespace {
 
-std::vector<double> random_solid(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.6, 1.6);
-  std::vector<double> s(std::size_t(n) * n * n);
-  for (double& v : s) v = std::clamp(u(rng), 0.0, 1.0);  // about a quarter 0, a quarter 1
-  return s;
-}
-
-Vec random_vec(std::size_t m, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Vec v(m);
-  for (double& x : v) x = u(rng);
-  return v;
-}
-
-double max_abs(const Vec& a) {
-  double m = 0.0;
-  for (double v : a) m = std::max(m, std::abs(v));
-  return m;
-}
+using testing::max_abs;
+using testing::random_clamped_solid;
+using testing::random_vec;
 
 double max_diff(const Vec& a, const Vec& b) {
   double m = 0.0;
@@ -51,7 +34,7 @@ double dot(const Vec& a, const Vec& b) {
 // Even and odd n; the random x has values on solid faces too, which both must ignore.
 TEST(StokesOperator, ApplyMatchesReference) {
   for (int n : {5, 6}) {
-    const auto s = random_solid(n, 3 + n);
+    const auto s = random_clamped_solid(n, 3 + n);
     const StokesOperator op(n, s, 1.7, 0.05);
     EXPECT_GT(op.fluid_faces(), 0u);
     EXPECT_LT(op.fluid_faces(), 3 * op.cells());
@@ -66,7 +49,7 @@ TEST(StokesOperator, ApplyMatchesReference) {
 // y += K x and x . K x in one pass: the same as apply and a dot product.
 TEST(StokesOperator, ApplyAddMatchesApply) {
   const int n = 6;
-  const auto s = random_solid(n, 21);
+  const auto s = random_clamped_solid(n, 21);
   const StokesOperator op(n, s);
   const Vec x = random_vec(op.size(), 3), y0 = random_vec(op.size(), 4);
   Vec kx(op.size()), y = y0;
@@ -82,7 +65,7 @@ TEST(StokesOperator, ApplyAddMatchesApply) {
 // the iteration lives in).
 TEST(StokesOperator, IsSymmetric) {
   const int n = 6;
-  const auto s = random_solid(n, 9);
+  const auto s = random_clamped_solid(n, 9);
   const StokesOperator op(n, s);
   auto restrict_to_fluid = [&](Vec& v) {
     for (int c = 0; c < 3; ++c)
@@ -114,7 +97,7 @@ TEST(StokesOperator, WallDistanceOfAPlane) {
 
 TEST(StokesPreconditioner, ApplyMatchesReference) {
   for (int n : {5, 6}) {
-    const auto s = random_solid(n, 13 + n);
+    const auto s = random_clamped_solid(n, 13 + n);
     const StokesOperator op(n, s, 0.7);
     const StokesPreconditioner pre(op, 0.3);
     const Vec r = random_vec(op.size(), 17);

@@ -9,6 +9,7 @@
 
 #include "properties/fft_preconditioner.h"
 #include "properties/voxel_element.h"
+#include "properties/operator_testing.h"
 
 namespace cmcsurf::properties {
 namespace {
@@ -21,19 +22,8 @@ std::vector<double> random_solid(int n, unsigned seed) {
   return s;
 }
 
-Vec random_vec(std::size_t m, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Vec v(m);
-  for (double& x : v) x = u(rng);
-  return v;
-}
-
-double max_abs(const Vec& a) {
-  double m = 0.0;
-  for (double v : a) m = std::max(m, std::abs(v));
-  return m;
-}
+using testing::max_abs;
+using testing::random_vec;
 
 template <int D>
 void expect_apply_matches_reference(int n, const typename VoxelOperator<D>::ElementMatrix& ke,

@@ -23,7 +23,7 @@ Field slab(int n, double width = 0.05) {
 }
 
 // The nodal gyroid at volume fraction 0.3 with the equilibrium profile (a relaxed field's shape).
-Field gyroid(int n) {
+Field gyroid_tanh(int n) {
   Field phi = nodal_tanh_profile(nodal_level_set("G", 0.3, n), 1.5 / n);
   phi.exchange_halo();
   return phi;
@@ -43,7 +43,7 @@ TEST(DualCellFractions, MatchTheirReferenceAndAddUpToTheLinearVolume) {
 }
 
 TEST(VoxelSolid, NetworkMeanIsTheSharpVolumeFractionAndPhaseTwoItsComplement) {
-  const Field phi = gyroid(24);
+  const Field phi = gyroid_tanh(24);
   const VoxelSolid one = cmc_voxel_solid(phi, {});
   EXPECT_NEAR(one.solid_fraction, sharp_volume_fraction(phi), 1e-13);
   EXPECT_NEAR(one.porosity, 1.0 - one.solid_fraction, 1e-15);
@@ -73,7 +73,7 @@ TEST(VoxelSolid, SheetAroundPlanesHoldsExactlyItsThickness) {
 }
 
 TEST(VoxelSolid, SheetThicknessIsSolvedForThePorosity) {
-  const Field phi = gyroid(24);
+  const Field phi = gyroid_tanh(24);
   SolidSpec s;
   s.kind = SolidKind::kSheet;
   s.porosity = 0.7;

@@ -6,11 +6,12 @@
 #include <numbers>
 
 #include "surfaces/nodal_level.h"
+#include "../../tests/test_fields.h"
 
 namespace cmcsurf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 
 // A tanh ball of radius r centred at (1/2, 1/2, 1/2), a corner of the cells.
 Field ball(int n, double r, double w) {
