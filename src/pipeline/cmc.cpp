@@ -380,7 +380,7 @@ class Evolution {
     r.d_phi = m.d_phi;
     r.energy = m.energy;
     r.mass = m.mass;
-    r.volume_fraction = sharp_volume_fraction(phi);
+    r.volume_fraction = m.volume_fraction;
     r.vcycles = s.vcycles;
     r.residual = s.residual;
     r.elapsed = seconds_since(t0_);
