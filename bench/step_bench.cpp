@@ -46,6 +46,7 @@ void BM_SourceFirstDefect(benchmark::State& state) {
   const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
   Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
   double m = 0.0;
+  ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
   for (auto _ : state)
     benchmark::DoNotOptimize(
         ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
@@ -57,6 +58,7 @@ void BM_SourceFirstDefectRef(benchmark::State& state) {
   const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
   Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
   double m = 0.0;
+  ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
   for (auto _ : state)
     benchmark::DoNotOptimize(
         ch_source_first_defect_ref(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
@@ -90,6 +92,7 @@ void BM_CopyInteriorPlus(benchmark::State& state) {
   const int n = int(state.range(0));
   const Field src = random_field(n, 1, 0, 1, 5);
   Field phi(n, 2);
+  copy_interior_plus_ref(src, 1e-9, phi);  // first touch
   for (auto _ : state) {
     copy_interior_plus(src, 1e-9, phi);
     phi.exchange_halo();
@@ -100,6 +103,7 @@ void BM_CopyInteriorPlusRef(benchmark::State& state) {
   const int n = int(state.range(0));
   const Field src = random_field(n, 1, 0, 1, 5);
   Field phi(n, 2);
+  copy_interior_plus_ref(src, 1e-9, phi);  // first touch
   for (auto _ : state) copy_interior_plus_ref(src, 1e-9, phi);
   set_bytes(state, n, 16);
 }
