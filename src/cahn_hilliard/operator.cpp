@@ -195,77 +195,137 @@ void nso_residual(const Field& phi, const Field& nu, const Field* rhs_phi, const
   }
 }
 
-double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi,
-                         const Field& rhs_nu, const ChParams& p) {
+namespace {
+
+// nso_residual_norm's pass; with kMean also the sum of phi's interior in mean's order (rows by
+// a SIMD reduction, their sum per plane, the planes into the thread's sum).
+template <bool kMean>
+double residual_norm_pass(const Field& phi, const Field& nu, const Field& rhs_phi,
+                          const Field& rhs_nu, const ChParams& p, double* phi_mean) {
   CMCSURF_DCHECK(halo_is_current(phi) && halo_is_current(nu));
   CMCSURF_CHECK(nu.size() == phi.size() && rhs_phi.size() == phi.size() &&
                 rhs_nu.size() == phi.size());
   const int n = phi.n(), nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
-  double s1 = 0.0, s2 = 0.0;
-  // The loops and the reduction are ch_defect_norm's, so the sums come out in its order.
-#pragma omp parallel reduction(+ : s1, s2) if (nx >= kParallelMinN)
+  double s1 = 0.0, s2 = 0.0, sm = 0.0;
+  // The loops and the reduction are ch_defect_norm's, so the sums come out in its order (and
+  // mean's: both split the planes alike, serially below kParallelMinN).
+#pragma omp parallel reduction(+ : s1, s2, sm) if (nx >= kParallelMinN)
   {
     std::vector<double> row(2 * std::size_t(nx));
     double* a = row.data();
     double* b = a + nx;
 #pragma omp for schedule(static)
-    for (int k = 0; k < nz; ++k)
+    for (int k = 0; k < nz; ++k) {
+      double plane = 0.0;
       for (int j = 0; j < ny; ++j) {
-        residual_row(&phi(0, j, k), &nu(0, j, k), &rhs_phi(0, j, k), &rhs_nu(0, j, k), a, b, nx,
-                     sy, sz, inv_dt, inv_h2, eps2);
+        const double* ph = &phi(0, j, k);
+        residual_row(ph, &nu(0, j, k), &rhs_phi(0, j, k), &rhs_nu(0, j, k), a, b, nx, sy, sz,
+                     inv_dt, inv_h2, eps2);
         for (int i = 0; i < nx; ++i) {
           s1 += a[i] * a[i];
           s2 += b[i] * b[i];
         }
+        if constexpr (kMean) {
+          double s = 0.0;
+#pragma omp simd reduction(+ : s)
+          for (int i = 0; i < nx; ++i) s += ph[i];
+          plane += s;
+        }
       }
+      if constexpr (kMean) sm += plane;
+    }
   }
-  double sums[2] = {s1, s2};
-  phi.sum_over_ranks(sums, 2);
+  double sums[3] = {s1, s2, sm};
+  phi.sum_over_ranks(sums, kMean ? 3 : 2);
+  if constexpr (kMean) *phi_mean = sums[2] / phi.global_cells();
   return std::sqrt((p.dt * p.dt * sums[0] + sums[1]) / phi.global_cells());
 }
 
+}  // namespace
+
+double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi,
+                         const Field& rhs_nu, const ChParams& p) {
+  return residual_norm_pass<false>(phi, nu, rhs_phi, rhs_nu, p, nullptr);
+}
+
+double nso_residual_norm_mean(const Field& phi, const Field& nu, const Field& rhs_phi,
+                              const Field& rhs_nu, const ChParams& p, double& phi_mean) {
+  return residual_norm_pass<true>(phi, nu, rhs_phi, rhs_nu, p, &phi_mean);
+}
+
+double nso_residual_norm_mean_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                                  const Field& rhs_nu, const ChParams& p, double& phi_mean) {
+  phi_mean = mean(phi);
+  return nso_residual_norm(phi, nu, rhs_phi, rhs_nu, p);
+}
+
 double ch_source_first_defect(const Field& phi_n, const Field& nu, const ChParams& p,
-                              Field& src_phi, Field& src_nu, Field& guess) {
+                              Field& src_phi, Field& src_nu, Field& guess,
+                              const StepStartExtras& extras) {
   CMCSURF_DCHECK(halo_is_current(phi_n) && halo_is_current(nu));
   CMCSURF_CHECK(nu.size() == phi_n.size() && src_phi.size() == phi_n.size() &&
                 src_nu.size() == phi_n.size() && guess.size() == phi_n.size());
+  Field* const phi_copy = extras.phi_copy;
+  Field* const nu_copy = extras.nu_copy;
+  const bool want_mean = extras.phi_mean != nullptr;
+  CMCSURF_CHECK((!phi_copy || phi_copy->size() == phi_n.size()) &&
+                (!nu_copy || nu_copy->size() == phi_n.size()));
   const int n = phi_n.n(), nx = phi_n.nx(), ny = phi_n.ny(), nz = phi_n.nz();
   const double inv_h2 = double(n) * n, inv_dt = 1.0 / p.dt, eps2 = p.epsilon * p.epsilon;
   const std::ptrdiff_t sy = phi_n.stride_y(), sz = phi_n.stride_z();
   const std::ptrdiff_t nu_sy = nu.stride_y(), nu_sz = nu.stride_z();  // may differ from phi_n's
-  double s1 = 0.0, s2 = 0.0;
+  const std::size_t row_bytes = sizeof(double) * nx;
+  double s1 = 0.0, s2 = 0.0, sm = 0.0;
   // nso_residual_norm's loops and reduction (its sums, in its order); the guess's interior is
   // phi_n's, so its defect is taken from phi_n, whose ghosts are the guess's after an exchange.
-#pragma omp parallel reduction(+ : s1, s2) if (nx >= kParallelMinN)
+  // The mean's sums are mean's (the same split of the planes).
+#pragma omp parallel reduction(+ : s1, s2, sm) if (nx >= kParallelMinN)
   {
     std::vector<double> row(2 * std::size_t(nx));
     double* a = row.data();
     double* b = a + nx;
 #pragma omp for schedule(static)
-    for (int k = 0; k < nz; ++k)
+    for (int k = 0; k < nz; ++k) {
+      double plane = 0.0;
       for (int j = 0; j < ny; ++j) {
         const double* ph = &phi_n(0, j, k);
+        const double* nv = &nu(0, j, k);
         double* r1 = &src_phi(0, j, k);
         double* r2 = &src_nu(0, j, k);
         source_row(ph, r1, r2, nx, sy, sz, inv_dt, inv_h2);
-        std::memcpy(&guess(0, j, k), ph, sizeof(double) * nx);
-        residual_row_strided(ph, &nu(0, j, k), r1, r2, a, b, nx, sy, sz, nu_sy, nu_sz, inv_dt,
-                             inv_h2, eps2);
+        std::memcpy(&guess(0, j, k), ph, row_bytes);
+        if (phi_copy) std::memcpy(&(*phi_copy)(0, j, k), ph, row_bytes);
+        if (nu_copy) std::memcpy(&(*nu_copy)(0, j, k), nv, row_bytes);
+        residual_row_strided(ph, nv, r1, r2, a, b, nx, sy, sz, nu_sy, nu_sz, inv_dt, inv_h2,
+                             eps2);
         for (int i = 0; i < nx; ++i) {
           s1 += a[i] * a[i];
           s2 += b[i] * b[i];
         }
+        if (want_mean) {
+          double s = 0.0;
+#pragma omp simd reduction(+ : s)
+          for (int i = 0; i < nx; ++i) s += ph[i];
+          plane += s;
+        }
       }
+      sm += plane;
+    }
   }
-  double sums[2] = {s1, s2};
-  phi_n.sum_over_ranks(sums, 2);
+  double sums[3] = {s1, s2, sm};
+  phi_n.sum_over_ranks(sums, want_mean ? 3 : 2);
+  if (want_mean) *extras.phi_mean = sums[2] / phi_n.global_cells();
   return std::sqrt((p.dt * p.dt * sums[0] + sums[1]) / phi_n.global_cells());
 }
 
 double ch_source_first_defect_ref(const Field& phi_n, const Field& nu, const ChParams& p,
-                                  Field& src_phi, Field& src_nu, Field& guess) {
+                                  Field& src_phi, Field& src_nu, Field& guess,
+                                  const StepStartExtras& extras) {
+  if (extras.phi_mean) *extras.phi_mean = mean(phi_n);
+  if (extras.phi_copy) copy_interior(phi_n, *extras.phi_copy);
+  if (extras.nu_copy) copy_interior(nu, *extras.nu_copy);
   ch_source(phi_n, p.dt, src_phi, src_nu);
   copy_interior(phi_n, guess);
   guess.exchange_halo();

@@ -80,16 +80,31 @@ double nso_residual_norm(const Field& phi, const Field& nu, const Field& rhs_phi
                          const Field& rhs_nu, const ChParams& p);
 double nso_residual_norm_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
                              const Field& rhs_nu, const ChParams& p);
+// nso_residual_norm and, in the same pass, mean(phi) with mean's bits (the stepper's mass
+// restore needs the mean of its last iterate, which the norm after each V-cycle reads anyway).
+double nso_residual_norm_mean(const Field& phi, const Field& nu, const Field& rhs_phi,
+                              const Field& rhs_nu, const ChParams& p, double& phi_mean);
+double nso_residual_norm_mean_ref(const Field& phi, const Field& nu, const Field& rhs_phi,
+                                  const Field& rhs_nu, const ChParams& p, double& phi_mean);
 
 // The start of a time step in one pass: ch_source(phi_n, p.dt) into (src_phi, src_nu), phi_n's
 // interior copied into guess, and the defect norm of (guess, nu) against that source, i.e.
 // nso_residual_norm after the copy with guess's halo exchanged; the same bits as those three
 // (the source rows are formed and read back while in cache). phi_n's and nu's ghosts must be
-// valid; guess's ghosts are stale on return.
+// valid; guess's ghosts are stale on return. The extras, each optional, come from the same
+// pass: copies of phi_n's and nu's interiors (the stepper's extrapolation history, restarted)
+// and mean(phi_n) with mean's bits (the mass the step restores).
+struct StepStartExtras {
+  Field* phi_copy = nullptr;
+  Field* nu_copy = nullptr;
+  double* phi_mean = nullptr;
+};
 double ch_source_first_defect(const Field& phi_n, const Field& nu, const ChParams& p,
-                              Field& src_phi, Field& src_nu, Field& guess);
+                              Field& src_phi, Field& src_nu, Field& guess,
+                              const StepStartExtras& extras = {});
 double ch_source_first_defect_ref(const Field& phi_n, const Field& nu, const ChParams& p,
-                                  Field& src_phi, Field& src_nu, Field& guess);
+                                  Field& src_phi, Field& src_nu, Field& guess,
+                                  const StepStartExtras& extras = {});
 
 // restrict_average(rhs - NSO(u)) into the coarse fields (n/2, interiors) without storing the
 // fine defect: the four fine rows under a coarse row are formed in buffers and averaged as

@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "../../tests/test_fields.h"
@@ -113,6 +114,87 @@ TEST(CahnHilliard, SourceFirstDefectMatchesSeparatePassesBitForBit) {
     }
   }
   omp_set_num_threads(saved_threads);
+}
+
+// The same pass with its extras (the history's copies and phi_n's mean), against the separate
+// passes and mean(): bit for bit at 1 and 2 threads, below and above kParallelMinN (mean runs
+// serially below it) and on an odd size (uneven slabs).
+TEST(CahnHilliard, SourceFirstDefectExtrasMatchSeparatePassesBitForBit) {
+  const int saved_threads = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    for (const int n : {8, 16, kParallelMinN + 3}) {
+      const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+      const Field phi = random_field(n, 2, 0, 1, 50), nu = random_field(n, 1, -0.1, 0.1, 51);
+      Field a1 = random_field(n, 1, -1, 1, 52), a2 = a1, b1 = a1, b2 = a1;
+      Field ga = random_field(n, 1, -1, 1, 53), gb = ga;
+      Field pa = random_field(n, 0, -1, 1, 54), pb = pa, qa = pa, qb = pa;
+      double ma = -1.0, mb = -2.0;
+      const double fused = ch_source_first_defect(phi, nu, p, a1, a2, ga, {&pa, &qa, &ma});
+      const double ref = ch_source_first_defect_ref(phi, nu, p, b1, b2, gb, {&pb, &qb, &mb});
+      const std::string what = fmt::format("n {} threads {}", n, threads);
+      EXPECT_EQ(fused, ref) << what;
+      EXPECT_EQ(fused, ch_source_first_defect(phi, nu, p, a1, a2, ga)) << what;  // no extras
+      EXPECT_EQ(ma, mb) << what;
+      EXPECT_EQ(ma, mean(phi)) << what;
+      EXPECT_GT(ma, 0.4) << what;
+      EXPECT_EQ(max_abs_diff(a1, b1), 0.0) << what;
+      EXPECT_EQ(max_abs_diff(a2, b2), 0.0) << what;
+      EXPECT_EQ(max_abs_diff(pa, phi), 0.0) << what;
+      EXPECT_EQ(max_abs_diff(qa, nu), 0.0) << what;
+      // Only the mean, as a step with its history in place asks.
+      double mc = -3.0;
+      StepStartExtras only_mean;
+      only_mean.phi_mean = &mc;
+      EXPECT_EQ(ch_source_first_defect(phi, nu, p, a1, a2, ga, only_mean), ref) << what;
+      EXPECT_EQ(mc, mb) << what;
+    }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
+// The defect norm with the mean of phi in its pass, against nso_residual_norm and mean().
+TEST(CahnHilliard, ResidualNormMeanMatchesSeparatePassesBitForBit) {
+  const int saved_threads = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    for (const int n : {8, 16, kParallelMinN + 3}) {
+      const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+      Field phi = random_field(n, 1, 0, 1, 60), nu = random_field(n, 1, -0.1, 0.1, 61);
+      const Field r1 = random_field(n, 1, -1, 1, 62), r2 = random_field(n, 1, -1, 1, 63);
+      double ma = -1.0, mb = -2.0;
+      const double fused = nso_residual_norm_mean(phi, nu, r1, r2, p, ma);
+      const double ref = nso_residual_norm_mean_ref(phi, nu, r1, r2, p, mb);
+      const std::string what = fmt::format("n {} threads {}", n, threads);
+      EXPECT_GT(ref, 0.1) << what;
+      EXPECT_EQ(fused, ref) << what;
+      EXPECT_EQ(fused, nso_residual_norm(phi, nu, r1, r2, p)) << what;
+      EXPECT_EQ(ma, mb) << what;
+      EXPECT_GT(ma, 0.4) << what;
+    }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
+// The step's end: the copy with the mass shift added, then the exchange, against copy, exchange
+// and add_constant over the padded field; a zero shift copies (-0.0 kept).
+TEST(CahnHilliard, CopyInteriorPlusMatchesReferenceBitForBit) {
+  for (const int n : {8, kParallelMinN + 3}) {
+    Field src = random_field(n, 1, 0, 1, 70);
+    src(1, 2, 3) = -0.0;
+    for (const double c : {0.0, 3.1e-9, -0.25}) {
+      Field a = random_field(n, 2, -1, 1, 71), b = a;
+      copy_interior_plus(src, c, a);
+      a.exchange_halo();
+      copy_interior_plus_ref(src, c, b);
+      const std::string what = fmt::format("n {} c {}", n, c);
+      EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.storage_size()), 0) << what;
+      if (c == 0.0) {
+        EXPECT_TRUE(std::signbit(a(1, 2, 3))) << what;
+      }
+      EXPECT_EQ(a(4, 5, 6), src(4, 5, 6) + c) << what;
+    }
+  }
 }
 
 TEST(CahnHilliard, DefectNormMatchesReference) {
@@ -358,6 +440,36 @@ TEST(CahnHilliard, MassRestoreRemovesTheDrift) {
   };
   EXPECT_GT(drift(false), 1e-12);
   EXPECT_LE(drift(true), 1e-14);
+}
+
+// A rejected mix gets the step's field back from the stepper: the same bits as the step left,
+// ghosts included, with and without extrapolation and a mass shift.
+TEST(CahnHilliard, RewriteStepResultGivesTheStepsFieldBack) {
+  const int n = 32;
+  for (const bool extrapolate : {false, true}) {
+    Field phi = testing::gyroid_field(n, 2);
+    StepSolverOptions o;
+    o.tol = 1e-5;  // loose: a mass shift to restore
+    o.extrapolate = extrapolate;
+    ChStepper stepper(n, {0.01, 0.5 / n, SweepOrder::kRedBlack}, o);
+    for (int s = 0; s < 3; ++s) {
+      stepper.step(phi);
+      const Field after = phi;
+      add_constant(phi, 0.125);  // as a mix would change it
+      stepper.rewrite_step_result(phi);
+      EXPECT_EQ(std::memcmp(phi.data(), after.data(), sizeof(double) * phi.storage_size()), 0)
+          << "extrapolate " << extrapolate << " step " << s;
+    }
+    // After reset_nu the history restarts in the first pass: the next steps go on alike.
+    Field other = phi;
+    ChStepper twin(n, {0.01, 0.5 / n, SweepOrder::kRedBlack}, o);
+    stepper.reset_nu();
+    for (int s = 0; s < 3; ++s) {
+      stepper.step(phi);
+      twin.step(other);
+    }
+    EXPECT_EQ(max_abs_diff(phi, other), 0.0) << "extrapolate " << extrapolate;
+  }
 }
 
 TEST(CahnHilliard, RedBlackAndLexicographicAgree) {

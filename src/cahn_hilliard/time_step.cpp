@@ -45,6 +45,7 @@ void ChStepper::restore_state(ChStepperState&& s) {
       copy_interior(from, to);
     }
   };
+  result_valid_ = false;  // the solver's fields are not a step's any more
   nu_valid_ = s.nu_valid;
   if (s.nu_valid) {
     put(s.nu, solver_.solution()[1]);
@@ -91,42 +92,61 @@ StepStats ChStepper::step(Field& phi) {
   Fields& u = solver_.solution();
   Fields& rhs = solver_.rhs();
   const ChParams& p = op_.params();
+  result_valid_ = false;
   phi.exchange_halo();
   if (!nu_valid_) {
     ch_nu_from_phi(phi, p.epsilon, u[1]);
     nu_valid_ = true;
   }
   u[1].exchange_halo();
+  // With extrapolation and no history (the first step, or after reset_nu), phi^n and nu^n
+  // become the history: copied in the first pass below instead of two passes of their own.
+  if (options_.extrapolate && prev_phi_.n() != phi.n()) {
+    prev_phi_ = Field::like(phi, 0);
+    prev_nu_ = Field::like(phi, 0);
+    history_valid_ = false;
+  }
+  const bool history_in_first_pass = options_.extrapolate && !history_valid_;
 
   StepStats stats;
-  // The source, phi^{n+1} started from phi^n and the defect of that guess, in one pass; u[0]'s
-  // ghosts are exchanged by whatever reads them next (the extrapolation's norm, the V-cycle).
-  stats.first_residual = ch_source_first_defect(phi, u[1], p, rhs[0], rhs[1], u[0]);
+  // The source, phi^{n+1} started from phi^n, the defect of that guess and the mass of phi^n,
+  // in one pass; u[0]'s ghosts are exchanged by whatever reads them next (the extrapolation's
+  // norm, the V-cycle).
+  double mass_n = 0.0;
+  StepStartExtras extras;
+  extras.phi_mean = &mass_n;
+  if (history_in_first_pass) {
+    extras.phi_copy = &prev_phi_;
+    extras.nu_copy = &prev_nu_;
+  }
+  stats.first_residual = ch_source_first_defect(phi, u[1], p, rhs[0], rhs[1], u[0], extras);
   stats.residual = stats.first_residual;
   if (!std::isfinite(stats.first_residual))
     throw SolverDiverged(fmt::format(
         "the phase field or the time step's source is not finite (defect norm {}) on N = {}",
         stats.first_residual, phi.n()));
+  // The mean of u[0], for the mass restore: each defect norm below takes it in its pass.
+  double mass_u = mass_n;
+  auto residual_norm = [&] {
+    exchange_halos(u[0], u[1]);
+    return nso_residual_norm_mean(u[0], u[1], rhs[0], rhs[1], p, mass_u);
+  };
   const double target = std::max(options_.tol, options_.rtol * stats.first_residual);
   if (options_.extrapolate) {
-    if (prev_phi_.n() != phi.n()) {
-      prev_phi_ = Field::like(phi, 0);
-      prev_nu_ = Field::like(phi, 0);
-      history_valid_ = false;
-    }
     if (history_valid_ && stats.residual > target) {
       // u[1] holds nu^n: keep it in prev_nu_ while forming the guess in place.
       const double r = p.dt / prev_dt_;
       extrapolate_into(phi, prev_phi_, u[0], r);
       extrapolate_into(u[1], prev_nu_, u[1], r);
-      const double e = solver_.residual_norm(op_);
+      const double e = residual_norm();
       if (std::isfinite(e) && e < stats.residual) {
         stats.residual = e;
       } else {  // a worse guess (the flow turned): back to phi^n, nu^n
         copy_interior(phi, u[0]);
         copy_interior(prev_nu_, u[1]);
+        mass_u = mass_n;
       }
-    } else {
+    } else if (!history_in_first_pass) {
       copy_interior(phi, prev_phi_);
       copy_interior(u[1], prev_nu_);
     }
@@ -136,7 +156,7 @@ StepStats ChStepper::step(Field& phi) {
   while (stats.residual > target && stats.vcycles < options_.max_vcycles) {
     solver_.vcycle(op_);
     ++stats.vcycles;
-    stats.residual = solver_.residual_norm(op_);
+    stats.residual = residual_norm();
     if (!std::isfinite(stats.residual) ||
         stats.residual > options_.divergence_factor * std::max(stats.first_residual, 1e-300)) {
       throw SolverDiverged(fmt::format(
@@ -151,11 +171,39 @@ StepStats ChStepper::step(Field& phi) {
   // defect of Eq. (5) left at the tolerance has a mean of dt * mean(d_phi) that would drift the
   // mass by up to mg_tol per step. Removing the constant mode of that defect restores
   // conservation to round-off and changes the other defects far below the tolerance.
-  const double drift = options_.restore_mass ? mean(phi) - mean(u[0]) : 0.0;
-  copy_interior(u[0], phi);
-  phi.exchange_halo();
-  if (drift != 0.0) add_constant(phi, drift);  // ghosts included: they stay valid
+  drift_ = options_.restore_mass ? mass_n - mass_u : 0.0;
+  result_valid_ = true;
+  rewrite_step_result(phi);
   return stats;
+}
+
+void ChStepper::rewrite_step_result(Field& phi) const {
+  CMCSURF_CHECK(result_valid_);
+  copy_interior_plus(solver_.solution()[0], drift_, phi);
+  phi.exchange_halo();
+}
+
+void copy_interior_plus(const Field& src, double c, Field& dst) {
+  CMCSURF_CHECK(src.size() == dst.size());
+  if (c == 0.0) {
+    copy_interior(src, dst);
+    return;
+  }
+  const int nx = src.nx(), ny = src.ny(), nz = src.nz();
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const double* s = &src(0, j, k);
+      double* d = &dst(0, j, k);
+#pragma omp simd
+      for (int i = 0; i < nx; ++i) d[i] = s[i] + c;
+    }
+}
+
+void copy_interior_plus_ref(const Field& src, double c, Field& dst) {
+  copy_interior(src, dst);
+  dst.exchange_halo();
+  if (c != 0.0) add_constant(dst, c);
 }
 
 }  // namespace cmcsurf

@@ -78,6 +78,10 @@ class ChStepper {
   // started from (interior), so a caller need not copy it for ||phi^{n+1} - phi^n||. Null
   // without extrapolation.
   const Field* phi_before_step() const { return options_.extrapolate ? &prev_phi_ : nullptr; }
+  // Writes the last step's phi^{n+1} into phi again (interior, halo exchanged): its solution
+  // and mass shift are kept until the next step(), so a caller that changed phi after a step
+  // (an Anderson mix it rejects) gets the step's field back without keeping a copy.
+  void rewrite_step_result(Field& phi) const;
   // Moves the state out (no copy; the stepper is unusable until restore_state) ...
   ChStepperState take_state();
   // ... and back, or from a checkpoint (its fields' interiors are copied; any ghost width).
@@ -92,11 +96,19 @@ class ChStepper {
   Field prev_phi_, prev_nu_;
   double prev_dt_ = 0.0;
   bool history_valid_ = false;
+  double drift_ = 0.0;  // the last step's mass shift (rewrite_step_result)
+  bool result_valid_ = false;
 };
 
 // guess = x + r (x - prev) and then prev = x, cell by cell (x is phi^n or nu^n, prev the
 // previous step's, r = dt_n / dt_{n-1}). Interiors only; guess may be x itself.
 void extrapolate_into(const Field& x, Field& prev, Field& guess, double r);
 void extrapolate_into_ref(const Field& x, Field& prev, Field& guess, double r);
+
+// dst = src + c in the interior (dst's ghosts are not written), so that after dst's exchange
+// it has the bits of copy_interior, exchange_halo and add_constant(dst, c): the step's end in
+// one pass instead of three. c == 0 copies (-0.0 stays -0.0, as add_constant is then skipped).
+void copy_interior_plus(const Field& src, double c, Field& dst);
+void copy_interior_plus_ref(const Field& src, double c, Field& dst);
 
 }  // namespace cmcsurf

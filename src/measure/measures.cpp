@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 
 #include "grid/check.h"
 #include "grid/stencil.h"
+#include "measure/sharp_volume.h"
 #include "parallel/first_exception.h"
 
 namespace cmcsurf {
@@ -412,7 +414,8 @@ double energy_ref(const Field& phi, double epsilon) {
 
 // One pass for the history (see measures.h). Each quantity has its own inner loop over the
 // row, written as its function's, so that it vectorises and adds in the same order; the rows
-// come from the cache after the first. area and energy add rows into a plane sum as sum_cells
+// come from the cache after the first; the sharp volume fraction's sweep adds each plane as
+// its own function does. area and energy add rows into a plane sum as sum_cells
 // does, l2_diff and weighted_nu_sums add rows straight into the thread's sum, and mass (mean)
 // runs serially below kParallelMinN: its plane sums are then added in order after the loop.
 StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums) {
@@ -430,60 +433,70 @@ StepMeasures step_measures(const Field& phi, const Field& before, double epsilon
   const bool mass_parallel = nx >= kParallelMinN;
   std::vector<double> mass_planes(mass_parallel ? 0 : nz);
   double s_area = 0.0, s_energy = 0.0, s_mass = 0.0, s_diff = 0.0, s_nw = 0.0, s_w = 0.0;
-#pragma omp parallel for reduction(+ : s_area, s_energy, s_mass, s_diff, s_nw, s_w) \
-    schedule(static)
-  for (int k = 0; k < nz; ++k) {
-    double plane_area = 0.0, plane_energy = 0.0, plane_mass = 0.0;
-    for (int j = 0; j < ny; ++j) {
-      const double* row = &phi(0, j, k);
-      const double* old_row = &before(0, j, k);
-      double a = 0.0, e = 0.0, m = 0.0, d = 0.0;
+  double s_sixths = 0.0;
+  FirstException errors;
+#pragma omp parallel reduction(+ : s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths)
+  {
+    std::optional<SharpVolumeSweep> sweep;  // the sharp volume fraction's planes (a thread's)
+    const bool allocated = errors.run([&] { sweep.emplace(phi); });
+#pragma omp for schedule(static)
+    for (int k = 0; k < nz; ++k) {
+      if (!allocated) continue;  // every thread must still reach the worksharing loop
+      double plane_area = 0.0, plane_energy = 0.0, plane_mass = 0.0;
+      for (int j = 0; j < ny; ++j) {
+        const double* row = &phi(0, j, k);
+        const double* old_row = &before(0, j, k);
+        double a = 0.0, e = 0.0, m = 0.0, d = 0.0;
 #pragma omp simd reduction(+ : a)
-      for (int i = 0; i < nx; ++i) a += grad4_sq_scaled(row + i, sy, sz);
+        for (int i = 0; i < nx; ++i) a += grad4_sq_scaled(row + i, sy, sz);
 #pragma omp simd reduction(+ : e)
-      for (int i = 0; i < nx; ++i) {
-        const double* p = row + i;
-        const double dx = p[1] - p[0], dy = p[sy] - p[0], dz = p[sz] - p[0];
-        e += double_well(p[0]) * inv_eps + c_grad * (dx * dx + dy * dy + dz * dz);
-      }
-#pragma omp simd reduction(+ : m)
-      for (int i = 0; i < nx; ++i) m += row[i];
-#pragma omp simd reduction(+ : d)
-      for (int i = 0; i < nx; ++i) d += (row[i] - old_row[i]) * (row[i] - old_row[i]);
-      plane_area += a;
-      plane_energy += e;
-      plane_mass += m;
-      s_diff += d;
-      if (nu_sums) {
-        double nw = 0.0, w = 0.0;
-#pragma omp simd reduction(+ : nw, w)
         for (int i = 0; i < nx; ++i) {
           const double* p = row + i;
-          const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
-          const double g = grad4_sq_scaled(p, sy, sz);
-          nw += nu * g;
-          w += g;
+          const double dx = p[1] - p[0], dy = p[sy] - p[0], dz = p[sz] - p[0];
+          e += double_well(p[0]) * inv_eps + c_grad * (dx * dx + dy * dy + dz * dz);
         }
-        s_nw += nw;
-        s_w += w;
+#pragma omp simd reduction(+ : m)
+        for (int i = 0; i < nx; ++i) m += row[i];
+#pragma omp simd reduction(+ : d)
+        for (int i = 0; i < nx; ++i) d += (row[i] - old_row[i]) * (row[i] - old_row[i]);
+        plane_area += a;
+        plane_energy += e;
+        plane_mass += m;
+        s_diff += d;
+        if (nu_sums) {
+          double nw = 0.0, w = 0.0;
+#pragma omp simd reduction(+ : nw, w)
+          for (int i = 0; i < nx; ++i) {
+            const double* p = row + i;
+            const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
+            const double g = grad4_sq_scaled(p, sy, sz);
+            nw += nu * g;
+            w += g;
+          }
+          s_nw += nw;
+          s_w += w;
+        }
       }
+      s_area += plane_area;
+      s_energy += plane_energy;
+      if (mass_parallel)
+        s_mass += plane_mass;
+      else
+        mass_planes[std::size_t(k)] = plane_mass;
+      sweep->add_plane(k, s_sixths);
     }
-    s_area += plane_area;
-    s_energy += plane_energy;
-    if (mass_parallel)
-      s_mass += plane_mass;
-    else
-      mass_planes[std::size_t(k)] = plane_mass;
   }
+  errors.rethrow();
   for (const double m : mass_planes) s_mass += m;
-  double sums[6] = {s_area, s_energy, s_mass, s_diff, s_nw, s_w};
-  phi.sum_over_ranks(sums, 6);
+  double sums[7] = {s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths};
+  phi.sum_over_ranks(sums, 7);
   StepMeasures r;
   r.area = kSixSqrt2 * epsilon * sums[0] / (144.0 * h * h) * h * h * h;
   r.energy = kSixSqrt2 * sums[1] * h * h * h;
   r.mass = sums[2] / phi.global_cells();
   r.d_phi = std::sqrt(sums[3] / phi.global_cells());
   if (nu_sums) r.nu_sums = WeightedNuSums{sums[4], sums[5]};
+  r.volume_fraction = sums[6] / (6.0 * phi.global_cells());
   return r;
 }
 
@@ -494,6 +507,7 @@ StepMeasures step_measures_ref(const Field& phi, const Field& before, double eps
   r.energy = energy(phi, epsilon);
   r.mass = mass(phi);
   r.d_phi = l2_diff(phi, before);
+  r.volume_fraction = sharp_volume_fraction(phi);
   if (nu_sums) {
     const auto [nw, w] = weighted_nu_sums(phi, epsilon);
     r.nu_sums = WeightedNuSums{nw, w};

@@ -82,11 +82,13 @@ struct StepMeasures {
   double energy = 0.0;
   double mass = 0.0;
   double d_phi = 0.0;  // l2_diff(phi, before)
+  double volume_fraction = 0.0;  // sharp_volume_fraction(phi)
   WeightedNuSums nu_sums;  // zero unless asked for
 };
-// area, energy, mass, l2_diff(phi, before) and, with nu_sums, the weighted sums of nu, in one
-// pass over phi instead of five: each value has the same bits as its own function's (each sum
-// keeps its own order of additions). Needs ghost >= 2 and a current halo; before: interior.
+// area, energy, mass, l2_diff(phi, before), sharp_volume_fraction and, with nu_sums, the
+// weighted sums of nu, in one pass over phi instead of six: each value has the same bits as
+// its own function's (each sum keeps its own order of additions). Needs ghost >= 2 and a
+// current halo; before: interior.
 StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums);
 StepMeasures step_measures_ref(const Field& phi, const Field& before, double epsilon,
                                bool nu_sums);  // the separate functions

@@ -131,6 +131,9 @@ TEST(Measures, StepMeasuresMatchTheSeparateFunctionsBitForBit) {
         EXPECT_EQ(m.energy, r.energy) << what;
         EXPECT_EQ(m.mass, r.mass) << what;
         EXPECT_EQ(m.d_phi, r.d_phi) << what;
+        EXPECT_EQ(m.volume_fraction, r.volume_fraction) << what;
+        EXPECT_GT(r.volume_fraction, 0.1) << what;  // cut cells and whole ones
+        EXPECT_LT(r.volume_fraction, 0.9) << what;
         EXPECT_EQ(m.nu_sums.nu_w, r.nu_sums.nu_w) << what;
         EXPECT_EQ(m.nu_sums.w, r.nu_sums.w) << what;
         EXPECT_EQ(r.nu_sums.w > 0.0, nu_sums) << what;

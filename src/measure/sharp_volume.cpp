@@ -1,6 +1,7 @@
 #include "measure/sharp_volume.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -164,59 +165,94 @@ inline double corrected_at(const double* p, std::ptrdiff_t sy, std::ptrdiff_t sz
 
 }  // namespace
 
-// linear_volume_fraction(curvature_corrected(phi)) without the N^3 field psi: each thread keeps
-// psi on the two planes of cells its dual cells span, (nx + 1) x (ny + 1) values each, the last
-// row and column (and the top plane of the block) from phi's ghosts, which hold the neighbours'
-// (or the periodic wrap's) values, so psi there equals the exchanged halo's. Same values, same
-// per-thread order of the sums as the two passes it replaces; 8 bytes per cell less at the peak
-// of a run, which calls it after every step.
+SharpVolumeSweep::SharpVolumeSweep(const Field& phi)
+    : phi_(phi),
+      lower_(std::size_t(phi.nx() + 1) * (phi.ny() + 1)),
+      upper_(lower_.size()),
+      col_min_(std::size_t(phi.nx()) + 1),
+      col_max_(col_min_.size()),
+      kind_(std::size_t(phi.nx())) {
+  require_ghost(phi, 2, "sharp_volume_fraction");
+}
+
+void SharpVolumeSweep::fill(std::vector<double>& q, int k) const {
+  const int nx = phi_.nx(), ny = phi_.ny();
+  const std::ptrdiff_t sy = phi_.stride_y(), sz = phi_.stride_z();
+  for (int j = 0; j <= ny; ++j) {
+    const double* p = &phi_(0, j, k);
+    double* row = &q[std::size_t(j) * (nx + 1)];
+    for (int i = 0; i <= nx; ++i) row[i] = corrected_at(p + i, sy, sz);
+  }
+}
+
+void SharpVolumeSweep::add_plane(int k, double& sixths) {
+  const int nx = phi_.nx(), ny = phi_.ny();
+  if (filled_ == k) {
+    std::swap(lower_, upper_);
+  } else {
+    fill(lower_, k);
+  }
+  fill(upper_, k + 1);
+  filled_ = k + 1;
+  const std::ptrdiff_t w = nx + 1;
+  const std::ptrdiff_t off[8] = {0, 1, w, w + 1, 0, 1, w, w + 1};
+  double* cmin = col_min_.data();
+  double* cmax = col_max_.data();
+  unsigned char* cut = kind_.data();
+  for (int j = 0; j < ny; ++j) {
+    const std::ptrdiff_t at0 = std::ptrdiff_t(j) * w;
+    const double* l0 = lower_.data() + at0;
+    const double* l1 = l0 + w;
+    const double* u0 = upper_.data() + at0;
+    const double* u1 = u0 + w;
+    // Whether each dual cell of the row is inside (all 8 corners above 1/2: 1), cut (2) or
+    // outside (0), from the extremes of its two columns of four corners: vectorised, where
+    // the loop below, which adds in the cells' order, is not.
+#pragma omp simd
+    for (int i = 0; i <= nx; ++i) {
+      cmin[i] = std::min(std::min(l0[i], l1[i]), std::min(u0[i], u1[i]));
+      cmax[i] = std::max(std::max(l0[i], l1[i]), std::max(u0[i], u1[i]));
+    }
+    int any = 0;
+#pragma omp simd reduction(| : any)
+    for (int i = 0; i < nx; ++i) {
+      const double lo = std::min(cmin[i], cmin[i + 1]);
+      const double hi = std::max(cmax[i], cmax[i + 1]);
+      const int c = lo > 0.5 ? 1 : hi > 0.5 ? 2 : 0;
+      cut[i] = static_cast<unsigned char>(c);
+      any |= c;
+    }
+    if (!any) continue;
+    for (int i = 0; i < nx; ++i) {
+      if (cut[i] == 1) {
+        sixths += 6.0;
+      } else if (cut[i] == 2) {
+        const std::ptrdiff_t at = at0 + i;
+        double v[8];
+        for (int c = 0; c < 8; ++c) v[c] = (c < 4 ? lower_ : upper_)[at + off[c]];
+        sixths += cube_sixfold_fraction(v);
+      }
+    }
+  }
+}
+
+// linear_volume_fraction(curvature_corrected(phi)) without the N^3 field psi (see
+// SharpVolumeSweep): same values, same per-thread order of the sums as the two passes it
+// replaces; 8 bytes per cell less at the peak of a run, which calls it after every step.
 double sharp_volume_fraction(const Field& phi) {
   require_ghost(phi, 2, "sharp_volume_fraction");
   CMCSURF_DCHECK(halo_is_current(phi));
-  const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
-  const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
-  const std::size_t plane = std::size_t(nx + 1) * (ny + 1);
+  const int nz = phi.nz();
   double sixths = 0.0;  // sum of tetrahedron fractions: 6 per dual cell
   FirstException errors;
 #pragma omp parallel reduction(+ : sixths)
   {
-    std::vector<double> lower, upper;
-    const bool allocated = errors.run([&] { lower = upper = std::vector<double>(plane); });
-    auto fill = [&](std::vector<double>& q, int k) {
-      for (int j = 0; j <= ny; ++j) {
-        const double* p = &phi(0, j, k);
-        double* row = &q[std::size_t(j) * (nx + 1)];
-        for (int i = 0; i <= nx; ++i) row[i] = corrected_at(p + i, sy, sz);
-      }
-    };
-    int filled = -2;  // the plane `upper` holds
+    std::optional<SharpVolumeSweep> sweep;
+    const bool allocated = errors.run([&] { sweep.emplace(phi); });
 #pragma omp for schedule(static)
     for (int k = 0; k < nz; ++k) {
       if (!allocated) continue;  // every thread must still reach the worksharing loop
-      if (filled == k) {
-        std::swap(lower, upper);
-      } else {
-        fill(lower, k);
-      }
-      fill(upper, k + 1);
-      filled = k + 1;
-      const std::ptrdiff_t w = nx + 1;
-      const std::ptrdiff_t off[8] = {0, 1, w, w + 1, 0, 1, w, w + 1};
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-          const std::ptrdiff_t at = std::ptrdiff_t(j) * w + i;
-          double v[8];
-          for (int c = 0; c < 8; ++c) v[c] = (c < 4 ? lower : upper)[at + off[c]];
-          double lo = v[0], hi = v[0];
-          for (int c = 1; c < 8; ++c) {
-            lo = std::min(lo, v[c]);
-            hi = std::max(hi, v[c]);
-          }
-          if (lo > 0.5)
-            sixths += 6.0;
-          else if (hi > 0.5)
-            sixths += cube_sixfold_fraction(v);
-        }
+      sweep->add_plane(k, sixths);
     }
   }
   errors.rethrow();

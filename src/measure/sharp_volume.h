@@ -16,6 +16,8 @@
 // (r = 0.3): error 1.5e-4 -> 2e-5 at 64^3, 3.9e-5 -> 2e-6 at 128^3 (docs/volume.md).
 #pragma once
 
+#include <vector>
+
 #include "grid/field.h"
 
 namespace cmcsurf {
@@ -49,5 +51,27 @@ void curvature_corrected(const Field& phi, Field& psi);
 // linear_volume_fraction of curvature_corrected(phi). Needs ghost >= 2 with a current halo.
 double sharp_volume_fraction(const Field& phi);
 double sharp_volume_fraction_ref(const Field& phi);  // plain twin, periodic index wrap
+
+// sharp_volume_fraction's sweep, plane by plane, for a pass over phi that has other work
+// (step_measures). One per thread: add_plane(k, sixths) adds the tetrahedron fractions of the
+// dual cells of plane k to the thread's running sum in the cells' order, keeping psi on the two
+// planes of cells those span, (nx + 1) x (ny + 1) values each, the last row and column (and
+// the top plane of the block) from phi's ghosts, which hold the neighbours' (or the periodic
+// wrap's) values, so psi there equals the exchanged halo's. A thread's planes in increasing k
+// reuse the upper plane. The threads' sums, added over the processes and divided by
+// 6 x the global cells, are the fraction. phi: ghost >= 2, halo current, alive while swept.
+class SharpVolumeSweep {
+ public:
+  explicit SharpVolumeSweep(const Field& phi);
+  void add_plane(int k, double& sixths);
+
+ private:
+  void fill(std::vector<double>& q, int k) const;
+  const Field& phi_;
+  std::vector<double> lower_, upper_;      // psi on planes k and k + 1
+  std::vector<double> col_min_, col_max_;  // a row's column extremes
+  std::vector<unsigned char> kind_;        // a row's dual cells: outside, inside, cut
+  int filled_ = -2;                        // the plane upper_ holds
+};
 
 }  // namespace cmcsurf

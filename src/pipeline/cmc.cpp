@@ -380,7 +380,7 @@ class Evolution {
     r.d_phi = m.d_phi;
     r.energy = m.energy;
     r.mass = m.mass;
-    r.volume_fraction = sharp_volume_fraction(phi);
+    r.volume_fraction = m.volume_fraction;
     r.vcycles = s.vcycles;
     r.residual = s.residual;
     r.elapsed = seconds_since(t0_);
@@ -509,16 +509,25 @@ class Evolution {
     }
     Field& phi = result_.phi;
     const Field* before = stepper_.phi_before_step();
-    if (unmixed_.n() != phi.n()) unmixed_ = Field::like(phi, 0);
-    copy_interior(phi, unmixed_);
+    // The stepper can write its step's field again; a component projection changed it after
+    // the step, so then a copy is kept.
+    const bool keep_copy = components_.has_value();
+    if (keep_copy) {
+      if (unmixed_.n() != phi.n()) unmixed_ = Field::like(phi, 0);
+      copy_interior(phi, unmixed_);
+    }
     if (anderson_->mix(before ? *before : previous_, phi) > 0) {
       phi.exchange_halo();
       // The safeguard: the step map lowers the energy, and so does a mix that stays in its
       // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
       // new handles, chi -8 -> -32, without it); the step's own field is kept.
       if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
-        copy_interior(unmixed_, phi);
-        phi.exchange_halo();
+        if (keep_copy) {
+          copy_interior(unmixed_, phi);
+          phi.exchange_halo();
+        } else {
+          stepper_.rewrite_step_result(phi);
+        }
         anderson_->reset();
         return;
       }
@@ -602,7 +611,7 @@ class Evolution {
   // The last step's weighted sums of nu (step_measures), valid when it took them.
   WeightedNuSums last_nu_sums_;
   bool nu_sums_valid_ = false;
-  Field unmixed_;  // the step's field while a mix is tried
+  Field unmixed_;  // the step's field while a mix is tried (with --constrain components)
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
   bool anderson_carried_ = true;

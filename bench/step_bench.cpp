@@ -1,0 +1,151 @@
+// Google Benchmark kernels of a finest time step outside the V-cycle: the step's start, its
+// defect norms, its end (the mass restore) and the history's measures, each fused kernel beside
+// its `_ref` twin (the separate passes it replaced). Bytes are each kernel's minimum traffic
+// (every array read or written once, write-allocate not counted), against the triad of
+// kernels_bench.cpp in the same process.
+#include <benchmark/benchmark.h>
+
+#include "cahn_hilliard/operator.h"
+#include "cahn_hilliard/time_step.h"
+#include "grid/field.h"
+#include "measure/measures.h"
+#include "measure/sharp_volume.h"
+#include "../tests/test_fields.h"
+
+namespace cmcsurf {
+namespace {
+
+using testing::random_field;
+
+double cells(int n) { return double(n) * n * n; }
+
+void set_bytes(benchmark::State& state, int n, double per_cell) {
+  state.SetBytesProcessed(int64_t(double(state.iterations()) * per_cell * cells(n)));
+}
+
+// The history's measures with the stop rule's sums: reads phi and phi^n, 16 bytes per cell.
+void BM_StepMeasures(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field phi = testing::gyroid_field(n, 2), before = random_field(n, 0, 0, 1, 2);
+  for (auto _ : state) benchmark::DoNotOptimize(step_measures(phi, before, 0.02, true));
+  set_bytes(state, n, 16);
+}
+void BM_StepMeasuresRef(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field phi = testing::gyroid_field(n, 2), before = random_field(n, 0, 0, 1, 2);
+  for (auto _ : state) benchmark::DoNotOptimize(step_measures_ref(phi, before, 0.02, true));
+  set_bytes(state, n, 16);
+}
+
+// The step's start as a step after a mix runs it (the history restarted, the mass taken):
+// reads phi^n and nu, writes the two sources, the guess and the two history copies: 56 bytes
+// per cell.
+void BM_SourceFirstDefect(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+  const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
+  Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
+  double m = 0.0;
+  ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
+  set_bytes(state, n, 56);
+}
+void BM_SourceFirstDefectRef(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+  const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
+  Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
+  double m = 0.0;
+  ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        ch_source_first_defect_ref(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
+  set_bytes(state, n, 56);
+}
+
+// The defect norm after a V-cycle with the iterate's mean: reads 4 arrays, 32 bytes per cell.
+void BM_ResidualNormMean(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+  const Field phi = testing::gyroid_field(n, 1), nu = random_field(n, 1, -0.1, 0.1, 3);
+  const Field r1 = random_field(n, 1, 0, 1, 4), r2(n, 1);
+  double m = 0.0;
+  for (auto _ : state) benchmark::DoNotOptimize(nso_residual_norm_mean(phi, nu, r1, r2, p, m));
+  set_bytes(state, n, 32);
+}
+void BM_ResidualNormMeanRef(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
+  const Field phi = testing::gyroid_field(n, 1), nu = random_field(n, 1, -0.1, 0.1, 3);
+  const Field r1 = random_field(n, 1, 0, 1, 4), r2(n, 1);
+  double m = 0.0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(nso_residual_norm_mean_ref(phi, nu, r1, r2, p, m));
+  set_bytes(state, n, 32);
+}
+
+// The step's end: phi = solution + mass shift with phi's halo: reads one array, writes one,
+// 16 bytes per cell.
+void BM_CopyInteriorPlus(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field src = random_field(n, 1, 0, 1, 5);
+  Field phi(n, 2);
+  copy_interior_plus_ref(src, 1e-9, phi);  // first touch
+  for (auto _ : state) {
+    copy_interior_plus(src, 1e-9, phi);
+    phi.exchange_halo();
+  }
+  set_bytes(state, n, 16);
+}
+void BM_CopyInteriorPlusRef(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field src = random_field(n, 1, 0, 1, 5);
+  Field phi(n, 2);
+  copy_interior_plus_ref(src, 1e-9, phi);  // first touch
+  for (auto _ : state) copy_interior_plus_ref(src, 1e-9, phi);
+  set_bytes(state, n, 16);
+}
+
+// The history's sharp volume fraction (a dual-cell sweep): reads phi, 8 bytes per cell.
+void BM_SharpVolumeFraction(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field phi = testing::gyroid_field(n, 2);
+  for (auto _ : state) benchmark::DoNotOptimize(sharp_volume_fraction(phi));
+  set_bytes(state, n, 8);
+}
+
+// The stop rule's second pass (the spread of nu around its weighted mean): reads phi, 8 bytes
+// per cell.
+void BM_EquilibriumSpread(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field phi = testing::gyroid_field(n, 2), before(n, 0);
+  const WeightedNuSums sums = step_measures(phi, before, 0.02, true).nu_sums;
+  for (auto _ : state) benchmark::DoNotOptimize(equilibrium_residual(phi, 0.02, sums));
+  set_bytes(state, n, 8);
+}
+
+// The Anderson mix's safeguard: the energy of the mixed field, 8 bytes per cell.
+void BM_Energy(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Field phi = testing::gyroid_field(n, 2);
+  for (auto _ : state) benchmark::DoNotOptimize(energy(phi, 0.02));
+  set_bytes(state, n, 8);
+}
+
+constexpr auto kMs = benchmark::kMillisecond;
+BENCHMARK(BM_StepMeasures)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_StepMeasuresRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_SourceFirstDefect)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_SourceFirstDefectRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_ResidualNormMean)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_ResidualNormMeanRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_CopyInteriorPlus)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_CopyInteriorPlusRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_SharpVolumeFraction)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_EquilibriumSpread)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_Energy)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+
+}  // namespace
+}  // namespace cmcsurf
