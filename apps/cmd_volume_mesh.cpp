@@ -112,12 +112,15 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
               if (e["below_size_min"].get<long>() > 0)
                 std::cerr << fmt::format(
                     "note: {} of {} edges are shorter than --size-min ({} on the surface, {} on "
-                    "the cut faces; the shortest {:.3g} {}): their collapse would have moved "
-                    "the surface or a face or spoilt a tet; the mesh is kept, FILE.json counts "
+                    "the cut faces, {} with an end on a box edge, where the surface or the cut "
+                    "crosses it; the shortest {:.3g} {}): their collapse would have moved the "
+                    "surface or a face or spoilt a tet; the mesh is kept, FILE.json counts "
                     "them (edge_length.size_min_met false, sizing.collapses_refused)\n",
                     e["below_size_min"].get<long>(), r["edges"].get<long>(),
                     e["below_size_min_on_surface"].get<long>(),
-                    e["below_size_min_on_cut"].get<long>(), e["min"].get<double>(), p.units);
+                    e["below_size_min_on_cut"].get<long>(),
+                    e["below_size_min_at_box_edges"].get<long>(), e["min"].get<double>(),
+                    p.units);
               if (e["above_size_max"].get<long>() > 0)
                 std::cerr << fmt::format(
                     "note: {} of {} edges are longer than --size (the longest {:.3g} {}): their "
