@@ -112,12 +112,30 @@ CommandFn add_volume_mesh_command(CLI::App& root) {
               if (e["below_size_min"].get<long>() > 0)
                 std::cerr << fmt::format(
                     "note: {} of {} edges are shorter than --size-min ({} on the surface, {} on "
-                    "the cut faces; the shortest {:.3g} {}): their collapse would have moved "
-                    "the surface or a face or spoilt a tet; the mesh is kept, FILE.json counts "
+                    "the cut faces, {} with an end on a box edge, where the surface or the cut "
+                    "crosses it; the shortest {:.3g} {}): their collapse would have moved the "
+                    "surface or a face or spoilt a tet; the mesh is kept, FILE.json counts "
                     "them (edge_length.size_min_met false, sizing.collapses_refused)\n",
                     e["below_size_min"].get<long>(), r["edges"].get<long>(),
                     e["below_size_min_on_surface"].get<long>(),
-                    e["below_size_min_on_cut"].get<long>(), e["min"].get<double>(), p.units);
+                    e["below_size_min_on_cut"].get<long>(),
+                    e["below_size_min_at_box_edges"].get<long>(), e["min"].get<double>(),
+                    p.units);
+              if (e["above_size_max"].get<long>() > 0)
+                std::cerr << fmt::format(
+                    "note: {} of {} edges are longer than --size (the longest {:.3g} {}): their "
+                    "split would have left an edge under --size-min or a tet under {} degrees; "
+                    "FILE.json counts them "
+                    "(edge_length.above_size_max, sizing.splits_refused)\n",
+                    e["above_size_max"].get<long>(), r["edges"].get<long>(),
+                    e["max"].get<double>(), p.units, kSizingFloorDeg);
+              if (r["checks"]["unpaired_plane_nodes"].get<long>() > 0)
+                std::cerr << fmt::format(
+                    "note: {} nodes on the box's planes have no partner one period away: a box "
+                    "edge or corner vertex that no move off its faces kept above {} degrees "
+                    "(cut.face_vertices_left_unpaired); pairs by $Periodic or node sets are "
+                    "complete, ties by coordinates miss them\n",
+                    r["checks"]["unpaired_plane_nodes"].get<long>(), kPairingFloorDeg);
             }
             return 0;
           }};

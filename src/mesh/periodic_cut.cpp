@@ -342,20 +342,32 @@ std::size_t face_vertices_in_part_of_cells(const PeriodicTets& t) {
   return n;
 }
 
+// How one vertex's move off the faces went (move_into_middle_cell).
+struct CellMove {
+  bool moved = false;
+  bool below_floor = false;     // kept by the second pass: under the floor, not the pairing's
+  double h = 0.0;               // the largest distance off a face, unit cells
+  double min_dihedral = 180.0;  // the smallest angle of the changed tets, degrees
+  std::size_t recut = 0;        // tets split by the re-cut
+};
+
 // Moves v (on two or three faces, its tets in an L of the cells around it) into the cell of
 // its tets joined across faces to the most others, off each face by h, and re-cuts the tets of
 // the other cells at those faces. The pieces between v and the faces are about h thick, so h
 // starts at the snap's reach (kDefaultCellFaceSnap of the shortest edge: the snap put v there
 // by up to as much) and is halved while an incident tet would lose half its volume, a piece
 // would be degenerate or a changed tet's smallest dihedral angle fall below `bound`, down to
-// the lift's distance. False (t unchanged) if none passes; else `moved` is the largest h.
-// Each try works on a copy of v's tets.
-bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, double bound,
-                           std::size_t& recut, double& moved) {
+// the lift's distance. Where none passes, a second pass (PairingMove in periodic_cut.h) tries
+// moves up to kPairingMoveShares[0] of the shortest edge, smooths the free vertices of v's
+// tets and its neighbours' tets, and keeps the best try above min(bound, kPairingFloorDeg).
+// Unmoved: t unchanged. Each try works on a copy of those tets.
+CellMove move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, double bound,
+                               double min_edge, double max_edge) {
+  CellMove result;
   const Incidence incident = incidences(t);
   const auto& inc = incident[v];
   const unsigned planes = planes_of(t, v);
-  if (!planes || inc.empty()) return false;
+  if (!planes || inc.empty()) return result;
   const unsigned cells = cells_of(t, inc, planes);
   // Where v may go: off the faces `off` to the sides `side` (bit a set: below face a), so
   // that on the faces it stays on its tets fill every cell around it. First the cell joined
@@ -392,56 +404,141 @@ bool move_into_middle_cell(PeriodicTets& t, std::size_t v, double max_lift, doub
         shortest = std::min(shortest, std::sqrt(dot(d, d)));
       }
   }
-  // Only v's tets change: an edge the faces cross after the move has v at one end, so every
-  // tet holding it is one of them. They are tried apart and spliced back.
-  PeriodicTets star;
-  star.vertices = t.vertices;
-  for (const auto& [i, q] : inc) {
-    star.tets.push_back(t.tets[i]);
-    star.offsets.push_back(t.offsets[i]);
-  }
-  const double least = std::min(kOneSidedLift * shortest, max_lift);
-  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5)
-    for (const auto& [off, side] : targets) {
-      PeriodicTets trial = star;
-      for (int a = 0; a < 3; ++a) {
-        if (!(off >> a & 1u)) continue;
-        const bool below = side >> a & 1u;  // one period down, at 1 - h
-        trial.vertices[v][a] = below ? 1.0 - h : h;
-        for (std::size_t k = 0; k < inc.size(); ++k) {
-          std::int8_t& o = trial.offsets[k][inc[k].second][a];
-          o = std::int8_t(o - (below ? 1 : 0));
-        }
+  // Only v's tets change position: an edge the faces cross after the move has v at one end,
+  // so every tet holding it is one of them. They come first in `part`; the second pass adds
+  // the other tets of v's neighbours, whose free vertices it smooths.
+  std::vector<char> in_part(t.tets.size(), 0);
+  std::vector<std::size_t> part_tets;
+  auto take = [&](std::size_t i) {
+    if (in_part[i]) return;
+    in_part[i] = 1;
+    part_tets.push_back(i);
+  };
+  for (const auto& [i, q] : inc) take(i);
+  // The part over its own vertices, numbered in the order of their indices in t, so that the
+  // re-cut's diagonals (from the smallest index) and the smoothing's order are t's own, and
+  // a try costs the part's size, not the mesh's.
+  PeriodicTets part;
+  std::vector<std::int32_t> global;
+  std::int32_t local_v = 0;
+  auto localize = [&] {
+    global.clear();
+    for (std::size_t i : part_tets) global.insert(global.end(), t.tets[i].begin(), t.tets[i].end());
+    std::sort(global.begin(), global.end());
+    global.erase(std::unique(global.begin(), global.end()), global.end());
+    auto local = [&](std::int32_t g) {
+      return std::int32_t(std::lower_bound(global.begin(), global.end(), g) - global.begin());
+    };
+    part = PeriodicTets{};
+    for (std::int32_t g : global) part.vertices.push_back(t.vertices[std::size_t(g)]);
+    for (std::size_t i : part_tets) {
+      std::array<std::int32_t, 4> tet;
+      for (int q = 0; q < 4; ++q) tet[q] = local(t.tets[i][q]);
+      part.tets.push_back(tet);
+      part.offsets.push_back(t.offsets[i]);
+    }
+    local_v = local(std::int32_t(v));
+  };
+  localize();
+  // v off the faces `off` to the sides `side` by h, its tets re-cut (`recut` of them): the
+  // smallest dihedral angle of the part's tets, or -1 where one of v's tets would lose half
+  // its volume or a piece be degenerate.
+  auto attempt = [&](double h, unsigned off, unsigned side, bool smooth, PeriodicTets& trial,
+                     std::size_t& recut) {
+    trial = part;
+    for (int a = 0; a < 3; ++a) {
+      if (!(off >> a & 1u)) continue;
+      const bool below = side >> a & 1u;  // one period down, at 1 - h
+      trial.vertices[std::size_t(local_v)][a] = below ? 1.0 - h : h;
+      for (std::size_t k = 0; k < inc.size(); ++k) {
+        std::int8_t& o = trial.offsets[k][inc[k].second][a];
+        o = std::int8_t(o - (below ? 1 : 0));
       }
-      bool ok = true;
-      for (std::size_t k = 0; k < inc.size() && ok; ++k)
-        ok = volume_of(trial, k) >= 0.5 * before[k];
-      if (!ok) continue;
-      CellFaceCut stats;
-      for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
+    }
+    for (std::size_t k = 0; k < inc.size(); ++k)
+      if (volume_of(trial, k) < 0.5 * before[k]) return -1.0;
+    CellFaceCut stats;
+    for (int axis = 0; axis < 3; ++axis) Splitter(trial, axis, stats).run();
+    if (stats.degenerate) return -1.0;
+    recut = stats.split_tets;
+    auto smallest = [&] {
       double lowest = 180.0;
       for (std::size_t i = 0; i < trial.tets.size(); ++i)
         lowest = std::min(lowest, tet_min_dihedral(trial, i));
-      if (stats.degenerate || lowest < bound) continue;
-      std::vector<char> replaced(t.tets.size(), 0);
-      for (const auto& [i, q] : inc) replaced[i] = 1;
-      std::size_t kept = 0;
-      for (std::size_t i = 0; i < t.tets.size(); ++i) {
-        if (replaced[i]) continue;
-        t.tets[kept] = t.tets[i];
-        t.offsets[kept] = t.offsets[i];
-        ++kept;
-      }
-      t.tets.resize(kept);
-      t.offsets.resize(kept);
-      t.tets.insert(t.tets.end(), trial.tets.begin(), trial.tets.end());
-      t.offsets.insert(t.offsets.end(), trial.offsets.begin(), trial.offsets.end());
-      t.vertices = std::move(trial.vertices);
-      recut += stats.split_tets;
-      moved = std::max(moved, h);
-      return true;
+      return lowest;
+    };
+    const double lowest = smallest();
+    // Smoothing gained at most 3.5 degrees in the tries measured: below a quarter of the
+    // floor it is not worth its time (most tries, ~10 ms each).
+    if (!smooth || lowest >= bound || lowest < 0.25 * kPairingFloorDeg) return lowest;
+    smooth_slivers(trial, kSliverTargetDeg, kSliverSweeps, max_edge, min_edge, false);
+    return smallest();
+  };
+  auto splice = [&](PeriodicTets& trial, double h, double lowest, std::size_t recut) {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < t.tets.size(); ++i) {
+      if (in_part[i]) continue;
+      t.tets[kept] = t.tets[i];
+      t.offsets[kept] = t.offsets[i];
+      ++kept;
     }
-  return false;
+    t.tets.resize(kept);
+    t.offsets.resize(kept);
+    // The part's vertices back (moved), the re-cut's new ones appended.
+    const std::size_t n = global.size();
+    const auto first_new = std::int32_t(t.vertices.size());
+    for (std::size_t l = 0; l < trial.vertices.size(); ++l) {
+      if (l < n)
+        t.vertices[std::size_t(global[l])] = trial.vertices[l];
+      else
+        t.vertices.push_back(trial.vertices[l]);
+    }
+    for (auto tet : trial.tets) {
+      for (std::int32_t& x : tet)
+        x = std::size_t(x) < n ? global[std::size_t(x)] : first_new + (x - std::int32_t(n));
+      t.tets.push_back(tet);
+    }
+    t.offsets.insert(t.offsets.end(), trial.offsets.begin(), trial.offsets.end());
+    result.moved = true;
+    result.h = h;
+    result.min_dihedral = lowest;
+    result.recut = recut;
+  };
+  const double least = std::min(kOneSidedLift * shortest, max_lift);
+  PeriodicTets trial;
+  std::size_t recut = 0;
+  for (double h = kDefaultCellFaceSnap * shortest; h >= least; h *= 0.5)
+    for (const auto& [off, side] : targets) {
+      const double lowest = attempt(h, off, side, false, trial, recut);
+      if (lowest >= bound) {
+        splice(trial, h, lowest, recut);
+        return result;
+      }
+    }
+  // Second pass: a corner vertex is left unpaired by every move above, since its pieces are
+  // tents of v's height over its neighbours' triangles on the faces. Farther moves, the
+  // neighbours smoothed, the best try kept if above the pairing floor.
+  for (const auto& [i, q] : inc)
+    for (int r = 0; r < 4; ++r)
+      for (const auto& [j, s] : incident[std::size_t(t.tets[i][r])]) take(j);
+  localize();
+  PeriodicTets best_trial;
+  double best = -1.0, best_h = 0.0;
+  std::size_t best_recut = 0;
+  for (double share : kPairingMoveShares) {
+    const double h = share * shortest;
+    if (h < least) continue;
+    for (const auto& [off, side] : targets) {
+      const double lowest = attempt(h, off, side, true, trial, recut);
+      if (lowest > best)
+        best = lowest, best_h = h, best_recut = recut, best_trial = std::move(trial);
+    }
+  }
+  if (best >= std::min(bound, kPairingFloorDeg)) {
+    splice(best_trial, best_h, best, best_recut);
+    result.below_floor = best < bound;
+  }
+  return result;
 }
 
 }  // namespace
@@ -587,9 +684,16 @@ OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_li
     for (std::size_t i = 0; i < t.tets.size(); ++i)
       lowest = std::min(lowest, tet_min_dihedral(t, i));
     const double bound = std::min(floor_deg, lowest);
-    for (std::size_t v : in_l)
-      s.moved_into_cell +=
-          move_into_middle_cell(t, v, max_lift, bound, s.recut_tets, s.max_cell_move);
+    for (std::size_t v : in_l) {
+      const CellMove m = move_into_middle_cell(t, v, max_lift, bound, min_edge, max_edge);
+      if (!m.moved) continue;
+      ++s.moved_into_cell;
+      s.recut_tets += m.recut;
+      s.max_cell_move = std::max(s.max_cell_move, m.h);
+      s.moved_below_floor += m.below_floor;
+      if (m.below_floor) s.min_dihedral_below_floor = std::min(s.min_dihedral_below_floor,
+                                                               m.min_dihedral);
+    }
   }
   s.left = in_l.empty() ? 0 : face_vertices_in_part_of_cells(t);
   return s;

@@ -4,6 +4,7 @@
 // the same triangulation, since on the torus they are the same faces. See docs/volume_mesh.md.
 #pragma once
 
+#include <array>
 #include <cstddef>
 
 #include "mesh/tet_mesh.h"
@@ -58,11 +59,24 @@ struct OneSidedFaceVertices {
   std::size_t moved_into_cell = 0;
   std::size_t recut_tets = 0;   // tets split by those re-cuts
   double max_cell_move = 0.0;   // the largest distance off a face, unit cells
+  // Of those, moved by the second pass (PairingMove below): a changed tet under the floor.
+  std::size_t moved_below_floor = 0;
+  double min_dihedral_below_floor = 180.0;  // their smallest angle, degrees
   // Left on a face with tets in some of the cells around them but not all: an L vertex whose
   // move would flatten a tet or leave one below the quality floor, or a refused lift. Some of
   // their images in the box lack a partner.
   std::size_t left = 0;
 };
+// PairingMove: where no move of an L or corner vertex keeps its changed tets above the floor
+// (a corner vertex's pieces are tents of its height off a face over its neighbours' triangles
+// on that face, so their angle grows with the move: measured 3.9 deg at the snap's reach),
+// the moves are tried again up to half its shortest edge, the free vertices of its tets and
+// of its neighbours' tets smoothed, and the best kept if no changed tet is under
+// kPairingFloorDeg: a node without a partner breaks every periodic condition a user ties by
+// planes, a 5-degree tet does not (the default meshes' smallest angle is 6.3-6.5 deg).
+inline constexpr double kPairingFloorDeg = 5.0;
+inline constexpr std::array<double, 6> kPairingMoveShares{0.5, 0.4, 0.3, 0.2, 0.15, 0.1};
+
 OneSidedFaceVertices lift_one_sided_face_vertices(PeriodicTets& t, double max_lift,
                                                   double min_edge = 0.0, double max_edge = 0.0,
                                                   double floor_deg = kSizingFloorDeg);

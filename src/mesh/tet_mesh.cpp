@@ -387,7 +387,15 @@ TetMeshStats analyze_tet_mesh(const TetMesh& m, double size_min, double size_max
     for (auto v : f.v) s.unpaired_nodes += !paired[v], place[v] |= 2;
   }
   s.edges_below_min = short_edges.size();
+  // Exact: nodes on a plane are written as 0 or whole periods.
+  auto on_box_edge = [&](std::int64_t v) {
+    int planes = 0;
+    for (int a = 0; a < 3; ++a)
+      planes += m.nodes[std::size_t(v)][a] == 0.0 || m.nodes[std::size_t(v)][a] == m.period[a];
+    return planes >= 2;
+  };
   for (const auto& [i, j] : short_edges) {
+    s.edges_below_min_box_edge += on_box_edge(i) || on_box_edge(j);
     const int both = place[i] & place[j];
     if (both & 2)
       ++s.edges_below_min_cut;
@@ -441,6 +449,7 @@ nlohmann::json tet_mesh_stats_json(const TetMeshStats& s, const std::string& uni
         {"below_size_min", s.edges_below_min},
         {"below_size_min_on_cut", s.edges_below_min_cut},
         {"below_size_min_on_surface", s.edges_below_min_surface},
+        {"below_size_min_at_box_edges", s.edges_below_min_box_edge},
         {"above_size_max", s.edges_above_max},
         {"units", units}}},
       {"checks",

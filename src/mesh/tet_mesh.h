@@ -87,6 +87,9 @@ struct TetMeshStats {
   double size_min = 0.0, size_max = 0.0;  // the bounds asked for (0: none)
   // Of those below size_min: with both ends on the periodic cut, on the solid's surface.
   std::size_t edges_below_min_cut = 0, edges_below_min_surface = 0;
+  // And with an end on an edge line of the box (two of its planes): where the surface or the
+  // cut crosses a box edge, the node is forced there and its neighbour on a face may lie near.
+  std::size_t edges_below_min_box_edge = 0;
   // The cut against the box [0, period]: nodes on each plane (x = 0, x = period_x, y = 0, ...),
   // periodic faces not on one plane, nodes outside the box, and periodic faces on a plane whose
   // image on the opposite plane (the same nodes one period away) is not a face there.

@@ -83,7 +83,7 @@ double tet_min_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const V
 }
 
 SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, double max_edge,
-                               double min_edge) {
+                               double min_edge, bool peel_slivers) {
   SliverSmoothing s;
   const std::size_t nv = t.vertices.size();
   std::size_t nt = t.tets.size();
@@ -252,7 +252,7 @@ SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, d
     for (int q = 0; q < 4; ++q) ++image_uses[image_key(i, q)];
   std::vector<char> peel(nt, 0), touched(nv, 0);
   for (std::size_t i = 0; i < nt; ++i) {
-    if (!(quality[i] < target_deg)) continue;
+    if (!peel_slivers || !(quality[i] < target_deg)) continue;
     const unsigned mask = surf.face[i];
     const int faces = std::popcount(mask);
     if (faces != 2 && faces != 3) continue;

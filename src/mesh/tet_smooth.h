@@ -42,10 +42,11 @@ struct SliverSmoothing {
 // volume is reported).
 // max_edge (unit cells; 0: no limit): a move may not make an edge of the vertex longer than
 // this or than its longest edge before the move; min_edge likewise shorter than this or than
-// its shortest edge before.
+// its shortest edge before. peel false: no tet is removed (a part of a mesh whose boundary is
+// not all surface, such as one vertex's star).
 SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg = kSliverTargetDeg,
                                int sweeps = kSliverSweeps, double max_edge = 0.0,
-                               double min_edge = 0.0);
+                               double min_edge = 0.0, bool peel = true);
 
 // The smallest of the six dihedral angles of the tet, degrees; -1 for a tet of volume
 // <= 1e-12 of its longest edge cubed or negative.

@@ -88,5 +88,22 @@ TEST(TetSmooth, KeepsTheSurfaceVertices) {
   EXPECT_EQ(m.periodic_faces, m0.periodic_faces);
 }
 
+// Without peeling (a part of a mesh, whose boundary is not all surface): the same moves, no
+// tet removed, the volume kept to round-off.
+TEST(TetSmooth, PeelsNothingWhenAskedNotTo) {
+  PeriodicTets t = kuhn_torus_slab(6, 3);
+  cut_at_cell_faces(t);
+  PeriodicTets peeled = t;
+  const std::size_t tets = t.tets.size();
+  const double volume = torus_volume(t);
+  const SliverSmoothing s = smooth_slivers(t, 60.0, 3, 0.0, 0.0, false);
+  const SliverSmoothing with = smooth_slivers(peeled, 60.0, 3);
+  EXPECT_EQ(s.peeled, 0u);
+  EXPECT_GT(with.peeled, 0u);
+  EXPECT_EQ(s.moves, with.moves);
+  EXPECT_EQ(t.tets.size(), tets);
+  EXPECT_NEAR(torus_volume(t), volume, 1e-12);
+}
+
 }  // namespace
 }  // namespace cmcsurf

@@ -268,6 +268,11 @@ VolumeMesh build_volume_mesh(const Field& phi, const VolumeMeshParams& p) {
                 {"l_vertices_moved_into_cell", lifted.moved_into_cell},
                 {"recut_tets", lifted.recut_tets},
                 {"max_cell_move", lifted.max_cell_move * L},
+                {"moved_below_floor", lifted.moved_below_floor},
+                {"pairing_floor_deg", kPairingFloorDeg},
+                {"min_dihedral_below_floor_deg",
+                 lifted.moved_below_floor ? nlohmann::json(lifted.min_dihedral_below_floor)
+                                          : nlohmann::json(nullptr)},
                 {"face_vertices_left_unpaired", lifted.left},
                 {"units", p.units}};
   else
