@@ -253,6 +253,17 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   return columns;
 }
 
+void AndersonMixer::unmix(Field& g) const {
+  CMCSURF_CHECK(have_prev_ && prev_g_.size() == g.interior_size());
+  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
+#pragma omp parallel for schedule(static) if (g.n() >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const double* pg = prev_g_.data() + (std::size_t(k) * ny + j) * nx;
+      std::copy(pg, pg + nx, &g(0, j, k));
+    }
+}
+
 int AndersonMixerRef::mix(const Field& x, Field& g) {
   std::vector<double> xv, gv;
   for_each_cell(g, [&](int i, int j, int k) {

@@ -470,7 +470,6 @@ class Evolution {
       if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max, r.energy);
     }
     anderson_.reset();  // its history (16 + 8 depth bytes per cell) is not needed after
-    unmixed_ = Field();
     if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
@@ -509,15 +508,14 @@ class Evolution {
     }
     Field& phi = result_.phi;
     const Field* before = stepper_.phi_before_step();
-    if (unmixed_.n() != phi.n()) unmixed_ = Field::like(phi, 0);
-    copy_interior(phi, unmixed_);
     if (anderson_->mix(before ? *before : previous_, phi) > 0) {
       phi.exchange_halo();
       // The safeguard: the step map lowers the energy, and so does a mix that stays in its
       // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
-      // new handles, chi -8 -> -32, without it); the step's own field is kept.
+      // new handles, chi -8 -> -32, without it); the step's own field is kept (the mixer
+      // holds it).
       if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
-        copy_interior(unmixed_, phi);
+        anderson_->unmix(phi);
         phi.exchange_halo();
         anderson_->reset();
         return;
@@ -602,7 +600,6 @@ class Evolution {
   // The last step's weighted sums of nu (step_measures), valid when it took them.
   WeightedNuSums last_nu_sums_;
   bool nu_sums_valid_ = false;
-  Field unmixed_;  // the step's field while a mix is tried
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
   bool anderson_carried_ = true;
@@ -845,6 +842,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   RunResult result;
   result.phi = Field(params.grid, 2, context.decomposition);
   prolongate_profile(coarse.phi, result.phi);
+  coarse.phi = Field();  // an eighth of a field less while the finest grid relaxes
   result.history = coarse.history;
   for (StepRecord& r : result.history) r.coarse_grids.push_back(coarse_params.grid);
   result.coarse_steps = coarse.steps + coarse.prerelax_steps + coarse.coarse_steps;
