@@ -469,7 +469,7 @@ class Evolution {
       }
       if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max, r.energy);
     }
-    anderson_.reset();  // its history (16 + 8 depth bytes per cell) is not needed after
+    anderson_.reset();  // its history (8 + 8 depth bytes per cell) is not needed after
     if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
@@ -513,7 +513,7 @@ class Evolution {
       // The safeguard: the step map lowers the energy, and so does a mix that stays in its
       // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
       // new handles, chi -8 -> -32, without it); the step's own field is kept (the mixer
-      // holds it).
+      // gives it back, within the float rounding of the correction).
       if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
         anderson_->unmix(phi);
         phi.exchange_halo();
