@@ -82,9 +82,9 @@ std::string AndersonState::count_problem() const {
 std::string AndersonState::problem(std::size_t cells) const {
   if (std::string p = count_problem(); !p.empty()) return p;
   const std::size_t want = have_prev ? cells : 0;
-  if (prev_g.size() != want || prev_f.size() != want)
-    return fmt::format("the last step's G and F hold {} and {} cells; {} expected",
-                       prev_g.size(), prev_f.size(), want);
+  if (prev_c.size() != want || prev_f.size() != want)
+    return fmt::format("the last step's correction and F hold {} and {} cells; {} expected",
+                       prev_c.size(), prev_f.size(), want);
   if (dg.size() != std::size_t(depth) || df.size() != std::size_t(depth))
     return fmt::format("{} and {} ring slots; {} expected", dg.size(), df.size(), depth);
   for (const int s : column_slots())
@@ -103,9 +103,10 @@ AndersonState AndersonMixer::take_state() {
   s.newest = newest_;
   s.have_prev = have_prev_;
   if (have_prev_) {
-    std::swap(s.prev_g, prev_g_);
+    std::swap(s.prev_c, prev_c_);
     std::swap(s.prev_f, prev_f_);
   }
+  s.prev_c_mean = prev_c_mean_;
   std::swap(s.dg, dg_);
   std::swap(s.df, df_);
   s.gram = gram_;
@@ -116,13 +117,14 @@ AndersonState AndersonMixer::take_state() {
 
 void AndersonMixer::restore_state(AndersonState&& s) {
   CMCSURF_CHECK(s.depth == depth_);
-  const std::size_t cells = s.prev_g.size();
+  const std::size_t cells = s.prev_c.size();
   CMCSURF_CHECK(s.problem(cells).empty());
   columns_ = s.columns;
   newest_ = s.newest;
   have_prev_ = s.have_prev;
-  prev_g_ = std::move(s.prev_g);
+  prev_c_ = std::move(s.prev_c);
   prev_f_ = std::move(s.prev_f);
+  prev_c_mean_ = s.prev_c_mean;
   dg_ = std::move(s.dg);
   df_ = std::move(s.df);
   // A slot outside the columns is written before it is read; mix() expects every slot sized.
@@ -153,9 +155,9 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   CMCSURF_CHECK(x.size() == g.size());
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   const std::size_t cells = g.interior_size();
-  if (prev_g_.size() != cells) {
-    prev_g_.assign(cells, 0.0);
-    prev_f_.assign(cells, 0.0);
+  if (prev_c_.size() != cells) {
+    prev_c_.assign(cells, 0.0f);
+    prev_f_.assign(cells, 0.0f);
     for (int s = 0; s < depth_; ++s) {
       dg_[s].assign(cells, 0.0f);
       df_[s].assign(cells, 0.0f);
@@ -170,7 +172,7 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   for (int c = 0; c < columns; ++c) order[c] = (slot - columns + 1 + c + depth_) % depth_;
 
   // One pass: F = G - x, the new differences, |F|^2, dF_j . dF_new, dF_j . F and the sum of
-  // the new dG's float rounding.
+  // the new dG's float rounding. G_k = x + c_k, so dG = G - G_k = F - c_k.
   constexpr int kSums = 2 * kMaxDepth + 2;
   constexpr int kDgSum = kSums - 1;
   double sums[kSums] = {};
@@ -184,14 +186,14 @@ int AndersonMixer::mix(const Field& x, Field& g) {
       const double* xr = &x(0, j, k);
       const double* gr = &g(0, j, k);
       const std::size_t row = (std::size_t(k) * ny + j) * nx;
-      double* pg = prev_g_.data() + row;
-      double* pf = prev_f_.data() + row;
+      float* pc = prev_c_.data() + row;
+      float* pf = prev_f_.data() + row;
       for (int i = 0; i < nx; ++i) {
         const double f = gr[i] - xr[i];
         sums[0] += f * f;
         if (add_column) {
-          dfn[row + i] = float(f - pf[i]);
-          const double dg = gr[i] - pg[i];
+          dfn[row + i] = float(f - double(pf[i]));
+          const double dg = f - double(pc[i]);
           dgn[row + i] = float(dg);
           sums[kDgSum] += double(dgn[row + i]) - dg;
           const double d = dfn[row + i];
@@ -201,14 +203,17 @@ int AndersonMixer::mix(const Field& x, Field& g) {
             sums[1 + kMaxDepth + c] += col * f;
           }
         }
-        pf[i] = f;
-        pg[i] = gr[i];
+        pf[i] = float(f);
+        pc[i] = 0.0f;  // unless the mix below changes g
       }
     }
   g.sum_over_ranks(sums, kSums);
   const double residual = std::sqrt(sums[0] / g.global_cells());
   const double previous = last_residual_;
   last_residual_ = residual;
+  // The stored dG is F - float(c_k); the true one F - c_k.
+  const double c_mean = prev_c_mean_;
+  prev_c_mean_ = 0.0;
   const bool had_prev = have_prev_;
   have_prev_ = true;
   if (!add_column) return 0;
@@ -219,7 +224,7 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   }
   newest_ = slot;
   columns_ = columns;
-  dg_mean_[slot] = sums[kDgSum] / g.global_cells();
+  dg_mean_[slot] = sums[kDgSum] / g.global_cells() - c_mean;
   for (int c = 0; c < columns; ++c) {  // the new row and column of the Gram matrix
     gram_[std::size_t(order[c]) * depth_ + slot] = sums[1 + c];
     gram_[std::size_t(slot) * depth_ + order[c]] = sums[1 + c];
@@ -239,18 +244,39 @@ int AndersonMixer::mix(const Field& x, Field& g) {
     gcols[c] = dg_[order[c]].data();
     shift += gamma[c] * dg_mean_[order[c]];
   }
-#pragma omp parallel for schedule(static) if (g.n() >= kParallelMinN)
+  // The mix, and c = G - x' (its float rounding summed) for the next difference.
+  double c_rounding = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : c_rounding) if (g.n() >= kParallelMinN)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j) {
       double* gr = &g(0, j, k);
       const std::size_t row = (std::size_t(k) * ny + j) * nx;
+      float* pc = prev_c_.data() + row;
       for (int i = 0; i < nx; ++i) {
         double s = 0.0;
         for (int c = 0; c < columns; ++c) s += gamma[c] * double(gcols[c][row + i]);
+        const double unmixed = gr[i];
         gr[i] -= s - shift;
+        const double correction = unmixed - gr[i];
+        pc[i] = float(correction);
+        c_rounding += double(pc[i]) - correction;
       }
     }
+  prev_c_mean_ = g.sum_over_ranks(c_rounding) / g.global_cells();
   return columns;
+}
+
+void AndersonMixer::unmix(Field& g) const {
+  CMCSURF_CHECK(have_prev_ && prev_c_.size() == g.interior_size());
+  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
+  const double m = prev_c_mean_;
+#pragma omp parallel for schedule(static) if (g.n() >= kParallelMinN)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      double* gr = &g(0, j, k);
+      const float* pc = prev_c_.data() + (std::size_t(k) * ny + j) * nx;
+      for (int i = 0; i < nx; ++i) gr[i] += double(pc[i]) - m;
+    }
 }
 
 int AndersonMixerRef::mix(const Field& x, Field& g) {
@@ -280,12 +306,16 @@ int AndersonMixerRef::mix(const Field& x, Field& g) {
   const int m = int(xs_.size()) - 1;
   if (m == 0) return 0;
   // Columns j = 0..m-1: dF_j = F_{j+1} - F_j and dG_j = G_{j+1} - G_j, each rounded to float
-  // as the mixer stores them.
+  // as the mixer stores them, from F_j and G_j = x_{j+1} + c_j rounded to float as it keeps
+  // them (c_j = G_j - x_{j+1}: the mix's correction, 0 where it did not mix).
   std::vector<std::vector<double>> df(m, std::vector<double>(cells)), dg = df;
   for (int c = 0; c < m; ++c)
     for (std::size_t i = 0; i < cells; ++i) {
-      df[c][i] = float((gs_[c + 1][i] - xs_[c + 1][i]) - (gs_[c][i] - xs_[c][i]));
-      dg[c][i] = float(gs_[c + 1][i] - gs_[c][i]);
+      const double f_next = gs_[c + 1][i] - xs_[c + 1][i];
+      const double f = float(gs_[c][i] - xs_[c][i]);
+      const double correction = float(gs_[c][i] - xs_[c + 1][i]);
+      df[c][i] = float(f_next - f);
+      dg[c][i] = float(f_next - correction);
     }
   std::vector<double> a(std::size_t(m) * m), b(m), gamma;
   for (int r = 0; r < m; ++r) {

@@ -9,10 +9,12 @@
 // The translation modes of a periodic surface have F = 0 to first order, so the mixing does
 // not move along them.
 //
-// The differences are stored in float (each is formed in double before it is rounded, so it
-// keeps 7 digits of itself, not of phi): 16 + 8 m bytes per cell with the double G and F of
-// the last step. The mean of each dG's float rounding is taken out of the mixing, so that
-// it keeps the mass to round-off, not to the float rounding.
+// Every per-cell array is stored in float, and each is a difference formed in double before
+// it is rounded, so that it keeps 7 digits of itself, not of phi: the columns dG and dF, the
+// last step's F = G - x, and instead of its G the correction c = G - x' that the mix
+// subtracted (x' the mixed field, from which the next step starts, so G = x' + c): 8 + 8 m
+// bytes per cell. The means of the float roundings of dG and c are taken out of the mixing,
+// so that it keeps the mass to round-off, not to the float rounding.
 #pragma once
 
 #include <cstddef>
@@ -31,7 +33,10 @@ struct AndersonState {
   int columns = 0;   // valid history columns (<= depth)
   int newest = -1;   // ring slot of the newest column (-1 without columns)
   bool have_prev = false;
-  std::vector<double> prev_g, prev_f;      // G and F of the last step (empty without have_prev)
+  // The last step's correction c = G - x' and F = G - x (empty without have_prev); c is 0
+  // where the step was not mixed.
+  std::vector<float> prev_c, prev_f;
+  double prev_c_mean = 0.0;                // mean of c's float rounding
   std::vector<std::vector<float>> dg, df;  // depth ring slots; only column_slots() are read
   std::vector<double> gram;                // dF_i . dF_j, depth x depth (ring slots)
   std::vector<double> dg_mean;             // mean of each stored dG's float rounding
@@ -54,9 +59,16 @@ class AndersonMixer {
   // Forgets the history (dt changed, a relaxation starts, the last mixing did not pay).
   void reset();
   // x: the field the last step started from, g = G(x): the field it produced (interiors).
+  // Between two mixes without a reset, x must be the g the first one left (G is kept as
+  // x + c).
   // Replaces the interior of g by the mixed next iterate (the caller exchanges g's halo).
   // Returns the number of history columns used (0: g is left as it was).
   int mix(const Field& x, Field& g);
+  // After a mix that returned > 0: puts g's interior back to the G(x) it was given, within the
+  // float rounding of the correction (6e-8 of it) and with its mean (the mixer keeps the
+  // correction for the next difference, so a caller that may refuse the mix needs no copy of
+  // its own: 8 bytes per cell less at the peak). The caller exchanges g's halo.
+  void unmix(Field& g) const;
   // |F_k| of the last mix (root mean square over the cells).
   double last_residual() const { return last_residual_; }
   // Moves the state out (no copy; the mixer is unusable until restore_state) ...
@@ -70,14 +82,16 @@ class AndersonMixer {
   int columns_ = 0;  // valid history columns (<= depth_)
   int newest_ = -1;  // ring index of the newest column
   bool have_prev_ = false;
-  std::vector<double> prev_g_, prev_f_;          // G and F of the last step
+  std::vector<float> prev_c_, prev_f_;           // c = G - x' and F of the last step
+  double prev_c_mean_ = 0.0;                     // mean of prev_c_'s float rounding
   std::vector<std::vector<float>> dg_, df_;      // ring of differences
   std::vector<double> gram_;                     // dF_i . dF_j, depth x depth (ring indices)
   std::vector<double> dg_mean_;                  // mean of each stored dG's float rounding
   double last_residual_ = 0.0;
 };
 
-// The same mixing with every vector in double and written with plain loops (the test twin).
+// The same mixing with its history in double (rounded where the mixer stores it in float) and
+// written with plain loops (the test twin).
 class AndersonMixerRef {
  public:
   explicit AndersonMixerRef(int depth) : depth_(depth) {}

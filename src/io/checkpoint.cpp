@@ -160,8 +160,8 @@ void result_from_json(const nlohmann::json& j, RunResult& r) {
 }
 
 // An array a checkpoint holds over phi's block (interior cells, x fastest): a field, or one of
-// the Anderson mixer's per-cell arrays (its last G and F in float64, its differences in
-// float32, as the mixer keeps them).
+// the Anderson mixer's per-cell arrays (its last correction and F and its differences, in
+// float32 as the mixer keeps them).
 struct NamedField {
   std::string name;
   const Field* field = nullptr;  // a field, or
@@ -170,11 +170,12 @@ struct NamedField {
 };
 
 // Calls add(name, array) for each of the mixer's per-cell arrays, in file order: the last
-// step's G and F, then each column's dG and dF, oldest first (named by their ring slot).
+// step's correction and F, then each column's dG and dF, oldest first (named by their ring
+// slot).
 template <class State, class Add>
 void each_mixer_array(State& m, Add&& add) {
   if (m.have_prev) {
-    add(std::string("anderson_prev_g"), m.prev_g);
+    add(std::string("anderson_prev_c"), m.prev_c);
     add(std::string("anderson_prev_f"), m.prev_f);
   }
   for (const int s : m.column_slots()) {
@@ -204,7 +205,7 @@ nlohmann::json mixer_json(const std::optional<AndersonState>& m) {
   if (!m) return nullptr;
   return {{"depth", m->depth},       {"columns", m->columns}, {"newest", m->newest},
           {"have_prev", m->have_prev}, {"gram", m->gram},     {"dg_mean", m->dg_mean},
-          {"last_residual", m->last_residual}};
+          {"prev_c_mean", m->prev_c_mean}, {"last_residual", m->last_residual}};
 }
 
 std::optional<AndersonState> mixer_from_json(const nlohmann::json& j) {
@@ -216,6 +217,8 @@ std::optional<AndersonState> mixer_from_json(const nlohmann::json& j) {
   j.at("have_prev").get_to(m.have_prev);
   j.at("gram").get_to(m.gram);
   j.at("dg_mean").get_to(m.dg_mean);
+  // Files whose mixer kept G in float64 lack it; their arrays' names are refused below.
+  m.prev_c_mean = j.value("prev_c_mean", 0.0);
   j.at("last_residual").get_to(m.last_residual);
   return m;
 }

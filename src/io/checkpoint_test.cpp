@@ -90,13 +90,13 @@ AndersonState sample_mixer(std::size_t cells) {
   m.columns = 2;
   m.newest = 0;
   m.have_prev = true;
-  m.prev_g.resize(cells);
+  m.prev_c.resize(cells);
   m.prev_f.resize(cells);
   m.dg.assign(3, std::vector<float>(cells));
   m.df = m.dg;
   for (std::size_t i = 0; i < cells; ++i) {
-    m.prev_g[i] = 1.0 / (3.0 + double(i));
-    m.prev_f[i] = -std::sqrt(double(i)) * 1e-7;
+    m.prev_c[i] = float(1.0 / (3.0 + double(i)) * 1e-5);
+    m.prev_f[i] = float(-std::sqrt(double(i)) * 1e-7);
     for (int s = 0; s < 3; ++s) {
       m.dg[std::size_t(s)][i] = float(std::sin(double(i + 7 * s)) * 1e-5);
       m.df[std::size_t(s)][i] = float(std::cos(double(i * 3 + s)) * 1e-6);
@@ -104,6 +104,7 @@ AndersonState sample_mixer(std::size_t cells) {
   }
   for (int r = 0; r < 9; ++r) m.gram.push_back(0.1 * r + 1.0 / 3.0);
   m.dg_mean = {1e-17 / 3.0, -2.0 / 7.0 * 1e-18, 0.0};
+  m.prev_c_mean = -1e-16 / 3.0;
   m.last_residual = std::sqrt(2.0) * 1e-4;
   return m;
 }
@@ -116,7 +117,8 @@ void expect_same_mixer(const AndersonState& a, const AndersonState& b) {
   EXPECT_EQ(b.gram, a.gram);  // every double exactly (CBOR keeps them)
   EXPECT_EQ(b.dg_mean, a.dg_mean);
   EXPECT_EQ(b.last_residual, a.last_residual);
-  EXPECT_EQ(b.prev_g, a.prev_g);
+  EXPECT_EQ(b.prev_c, a.prev_c);
+  EXPECT_EQ(b.prev_c_mean, a.prev_c_mean);
   EXPECT_EQ(b.prev_f, a.prev_f);
   for (const int s : a.column_slots()) {
     EXPECT_EQ(b.dg[std::size_t(s)], a.dg[std::size_t(s)]) << "slot " << s;
@@ -143,9 +145,9 @@ TEST(Checkpoint, CarriesTheAndersonMixer) {
   const std::vector<unsigned char> good(std::istreambuf_iterator<char>(in), {});
   std::uint64_t length = 0;  // of the header
   std::memcpy(&length, good.data() + 16, 8);
-  // After the header: the four fields (8 bytes a cell each), the mixer's last G and F (16) and
-  // its two columns' dG and dF (8 each), then the trailer.
-  EXPECT_EQ(good.size() - 24 - length - 12, std::uint64_t(16 * 16 * 16) * (4 * 8 + 16 + 8 * 2));
+  // After the header: the four fields (8 bytes a cell each), the mixer's last correction and F
+  // (8) and its two columns' dG and dF (8 each), then the trailer.
+  EXPECT_EQ(good.size() - 24 - length - 12, std::uint64_t(16 * 16 * 16) * (4 * 8 + 8 + 8 * 2));
   write_checkpoint(tmp / "checkpoint.bin", params, c, nlohmann::json::object(), true);
   const CheckpointFile p = read_checkpoint(tmp / "checkpoint.bin");
   ASSERT_TRUE(p.checkpoint.anderson);

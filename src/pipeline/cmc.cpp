@@ -469,8 +469,7 @@ class Evolution {
       }
       if (anderson_ && equilibrium) accelerate(step_dt == dt_max && dt == dt_max, r.energy);
     }
-    anderson_.reset();  // its history (16 + 8 depth bytes per cell) is not needed after
-    unmixed_ = Field();
+    anderson_.reset();  // its history (8 + 8 depth bytes per cell) is not needed after
     if (components_) components_->check_count(result_.phi, step_);
     result_.final = measure_field_diffuse(result_.phi, params_.epsilon);
     result_.wall_seconds = seconds_since(t0_);
@@ -509,21 +508,17 @@ class Evolution {
     }
     Field& phi = result_.phi;
     const Field* before = stepper_.phi_before_step();
-    // The stepper can write its step's field again; a component projection changed it after
-    // the step, so then a copy is kept.
-    const bool keep_copy = components_.has_value();
-    if (keep_copy) {
-      if (unmixed_.n() != phi.n()) unmixed_ = Field::like(phi, 0);
-      copy_interior(phi, unmixed_);
-    }
     if (anderson_->mix(before ? *before : previous_, phi) > 0) {
       phi.exchange_halo();
       // The safeguard: the step map lowers the energy, and so does a mix that stays in its
       // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
       // new handles, chi -8 -> -32, without it); the step's own field is kept.
       if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
-        if (keep_copy) {
-          copy_interior(unmixed_, phi);
+        // The stepper writes its step's field again, bit for bit; after a component
+        // projection (which changed phi after the step) the mixer gives it back instead,
+        // within the float rounding of its correction.
+        if (components_) {
+          anderson_->unmix(phi);
           phi.exchange_halo();
         } else {
           stepper_.rewrite_step_result(phi);
@@ -611,7 +606,6 @@ class Evolution {
   // The last step's weighted sums of nu (step_measures), valid when it took them.
   WeightedNuSums last_nu_sums_;
   bool nu_sums_valid_ = false;
-  Field unmixed_;  // the step's field while a mix is tried (with --constrain components)
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
   bool anderson_carried_ = true;
@@ -854,6 +848,7 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   RunResult result;
   result.phi = Field(params.grid, 2, context.decomposition);
   prolongate_profile(coarse.phi, result.phi);
+  coarse.phi = Field();  // an eighth of a field less while the finest grid relaxes
   result.history = coarse.history;
   for (StepRecord& r : result.history) r.coarse_grids.push_back(coarse_params.grid);
   result.coarse_steps = coarse.steps + coarse.prerelax_steps + coarse.coarse_steps;

@@ -89,8 +89,8 @@ TEST(ResumeCheck, RefusesAMixerTheRunDoesNotHold) {
     m.have_prev = true;
     m.columns = 1;
     m.newest = 0;
-    m.prev_g.assign(cells, 0.5);
-    m.prev_f.assign(cells, 0.0);
+    m.prev_c.assign(cells, 0.0f);
+    m.prev_f.assign(cells, 0.0f);
     m.dg[0].assign(cells, 0.0f);
     m.df[0].assign(cells, 0.0f);
   };
@@ -98,7 +98,8 @@ TEST(ResumeCheck, RefusesAMixerTheRunDoesNotHold) {
   EXPECT_NE(problem_after(p, c, [&](Checkpoint& e) {
               with_history(e);
               e.anderson->prev_f.pop_back();
-            }).find("its Anderson mixer: the last step's G and F hold 4096 and 4095 cells"),
+            }).find("its Anderson mixer: the last step's correction and F hold 4096 and 4095 "
+                    "cells"),
             std::string::npos);
   RunParams deeper = p;
   deeper.anderson_depth = 4;
