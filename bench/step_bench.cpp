@@ -23,88 +23,60 @@ void set_bytes(benchmark::State& state, int n, double per_cell) {
   state.SetBytesProcessed(int64_t(double(state.iterations()) * per_cell * cells(n)));
 }
 
+// Each fused kernel runs with ref = false, its `_ref` twin with ref = true, on the same data.
+
 // The history's measures with the stop rule's sums: reads phi and phi^n, 16 bytes per cell.
-void BM_StepMeasures(benchmark::State& state) {
+void BM_StepMeasures(benchmark::State& state, bool ref) {
   const int n = int(state.range(0));
   const Field phi = testing::gyroid_field(n, 2), before = random_field(n, 0, 0, 1, 2);
-  for (auto _ : state) benchmark::DoNotOptimize(step_measures(phi, before, 0.02, true));
-  set_bytes(state, n, 16);
-}
-void BM_StepMeasuresRef(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const Field phi = testing::gyroid_field(n, 2), before = random_field(n, 0, 0, 1, 2);
-  for (auto _ : state) benchmark::DoNotOptimize(step_measures_ref(phi, before, 0.02, true));
+  const auto kernel = ref ? step_measures_ref : step_measures;
+  for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, before, 0.02, true));
   set_bytes(state, n, 16);
 }
 
 // The step's start as a step after a mix runs it (the history restarted, the mass taken):
 // reads phi^n and nu, writes the two sources, the guess and the two history copies: 56 bytes
 // per cell.
-void BM_SourceFirstDefect(benchmark::State& state) {
+void BM_SourceFirstDefect(benchmark::State& state, bool ref) {
   const int n = int(state.range(0));
   const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
   const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
   Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
   double m = 0.0;
   ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
+  const auto kernel = ref ? ch_source_first_defect_ref : ch_source_first_defect;
   for (auto _ : state)
-    benchmark::DoNotOptimize(
-        ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
-  set_bytes(state, n, 56);
-}
-void BM_SourceFirstDefectRef(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
-  const Field phi = testing::gyroid_field(n, 2), nu = random_field(n, 1, -0.1, 0.1, 3);
-  Field s1(n, 1), s2(n, 1), guess(n, 1), prev_phi(n, 0), prev_nu(n, 0);
-  double m = 0.0;
-  ch_source_first_defect(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m});  // first touch
-  for (auto _ : state)
-    benchmark::DoNotOptimize(
-        ch_source_first_defect_ref(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
+    benchmark::DoNotOptimize(kernel(phi, nu, p, s1, s2, guess, {&prev_phi, &prev_nu, &m}));
   set_bytes(state, n, 56);
 }
 
 // The defect norm after a V-cycle with the iterate's mean: reads 4 arrays, 32 bytes per cell.
-void BM_ResidualNormMean(benchmark::State& state) {
+void BM_ResidualNormMean(benchmark::State& state, bool ref) {
   const int n = int(state.range(0));
   const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
   const Field phi = testing::gyroid_field(n, 1), nu = random_field(n, 1, -0.1, 0.1, 3);
   const Field r1 = random_field(n, 1, 0, 1, 4), r2(n, 1);
   double m = 0.0;
-  for (auto _ : state) benchmark::DoNotOptimize(nso_residual_norm_mean(phi, nu, r1, r2, p, m));
-  set_bytes(state, n, 32);
-}
-void BM_ResidualNormMeanRef(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const ChParams p{0.02, 0.5 / n, SweepOrder::kRedBlack};
-  const Field phi = testing::gyroid_field(n, 1), nu = random_field(n, 1, -0.1, 0.1, 3);
-  const Field r1 = random_field(n, 1, 0, 1, 4), r2(n, 1);
-  double m = 0.0;
-  for (auto _ : state)
-    benchmark::DoNotOptimize(nso_residual_norm_mean_ref(phi, nu, r1, r2, p, m));
+  const auto kernel = ref ? nso_residual_norm_mean_ref : nso_residual_norm_mean;
+  for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, nu, r1, r2, p, m));
   set_bytes(state, n, 32);
 }
 
 // The step's end: phi = solution + mass shift with phi's halo: reads one array, writes one,
-// 16 bytes per cell.
-void BM_CopyInteriorPlus(benchmark::State& state) {
+// 16 bytes per cell; the fused kernel is timed with the halo exchange the step does after it.
+void BM_CopyInteriorPlus(benchmark::State& state, bool ref) {
   const int n = int(state.range(0));
   const Field src = random_field(n, 1, 0, 1, 5);
   Field phi(n, 2);
   copy_interior_plus_ref(src, 1e-9, phi);  // first touch
   for (auto _ : state) {
-    copy_interior_plus(src, 1e-9, phi);
-    phi.exchange_halo();
+    if (ref) {
+      copy_interior_plus_ref(src, 1e-9, phi);
+    } else {
+      copy_interior_plus(src, 1e-9, phi);
+      phi.exchange_halo();
+    }
   }
-  set_bytes(state, n, 16);
-}
-void BM_CopyInteriorPlusRef(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const Field src = random_field(n, 1, 0, 1, 5);
-  Field phi(n, 2);
-  copy_interior_plus_ref(src, 1e-9, phi);  // first touch
-  for (auto _ : state) copy_interior_plus_ref(src, 1e-9, phi);
   set_bytes(state, n, 16);
 }
 
@@ -135,14 +107,14 @@ void BM_Energy(benchmark::State& state) {
 }
 
 constexpr auto kMs = benchmark::kMillisecond;
-BENCHMARK(BM_StepMeasures)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_StepMeasuresRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_SourceFirstDefect)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_SourceFirstDefectRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_ResidualNormMean)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_ResidualNormMeanRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_CopyInteriorPlus)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
-BENCHMARK(BM_CopyInteriorPlusRef)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_StepMeasures, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_StepMeasures, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_SourceFirstDefect, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_SourceFirstDefect, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_ResidualNormMean, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_ResidualNormMean, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_CopyInteriorPlus, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_CopyInteriorPlus, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_SharpVolumeFraction)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_EquilibriumSpread)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_Energy)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
