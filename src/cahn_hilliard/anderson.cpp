@@ -266,19 +266,6 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   return columns;
 }
 
-void AndersonMixer::unmix(Field& g) const {
-  CMCSURF_CHECK(have_prev_ && prev_c_.size() == g.interior_size());
-  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
-  const double m = prev_c_mean_;
-#pragma omp parallel for schedule(static) if (g.n() >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      double* gr = &g(0, j, k);
-      const float* pc = prev_c_.data() + (std::size_t(k) * ny + j) * nx;
-      for (int i = 0; i < nx; ++i) gr[i] += double(pc[i]) - m;
-    }
-}
-
 int AndersonMixerRef::mix(const Field& x, Field& g) {
   std::vector<double> xv, gv;
   for_each_cell(g, [&](int i, int j, int k) {

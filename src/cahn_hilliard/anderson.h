@@ -64,11 +64,6 @@ class AndersonMixer {
   // Replaces the interior of g by the mixed next iterate (the caller exchanges g's halo).
   // Returns the number of history columns used (0: g is left as it was).
   int mix(const Field& x, Field& g);
-  // After a mix that returned > 0: puts g's interior back to the G(x) it was given, within the
-  // float rounding of the correction (6e-8 of it) and with its mean (the mixer keeps the
-  // correction for the next difference, so a caller that may refuse the mix needs no copy of
-  // its own: 8 bytes per cell less at the peak). The caller exchanges g's halo.
-  void unmix(Field& g) const;
   // |F_k| of the last mix (root mean square over the cells).
   double last_residual() const { return last_residual_; }
   // Moves the state out (no copy; the mixer is unusable until restore_state) ...

@@ -126,32 +126,6 @@ TEST(Anderson, RestartsWhenTheResidualGrows) {
   EXPECT_EQ(mixer.mix(x, g), 1);  // it starts again from the jump
 }
 
-// unmix() gives back the step's own field after every mix that changed it, within the float
-// rounding of the mix's correction and with its mean (Evolution refuses a mix that raises the
-// energy with it, instead of a copy of its own).
-TEST(Anderson, UnmixRestoresTheStepsField) {
-  const Field fixed = random_field(kN, 1, 0, 1, 12);
-  Field x = random_field(kN, 1, 0, 1, 13), g(kN, 1);
-  AndersonMixer mixer(3);
-  int mixed = 0;
-  for (int step = 0; step < 6; ++step) {
-    apply_spread_map(fixed, x, g);
-    const Field unmixed = g;
-    if (mixer.mix(x, g) > 0) {
-      ++mixed;
-      Field back = g;
-      const double moved = max_abs_diff(back, unmixed);  // the mix's largest correction
-      EXPECT_GT(moved, 1e-6) << step;
-      mixer.unmix(back);
-      // float keeps 2^-24 = 6e-8 of the correction; the rest is double round-off of phi ~ 1.
-      EXPECT_LE(max_abs_diff(back, unmixed), 6e-8 * moved + 1e-15) << step;
-      EXPECT_NEAR(mean(back), mean(unmixed), 1e-15) << step;
-    }
-    std::swap(x, g);
-  }
-  EXPECT_EQ(mixed, 5);  // every step after the first
-}
-
 // The state a checkpoint carries: taken after the ring wrapped, with the slots outside the
 // columns dropped (a checkpoint keeps only the columns), restored into a new mixer, it mixes the
 // next steps to the same bits as the mixer it came from; a fresh mixer does not.

@@ -514,15 +514,10 @@ class Evolution {
       // basin. One that raises it has left it (measured: G at 0.5, 32^3, epsilon 0.96 h grew
       // new handles, chi -8 -> -32, without it); the step's own field is kept.
       if (energy(phi, stepper_.params().epsilon) > energy_unmixed) {
-        // The stepper writes its step's field again, bit for bit; after a component
-        // projection (which changed phi after the step) the mixer gives it back instead,
-        // within the float rounding of its correction.
-        if (components_) {
-          anderson_->unmix(phi);
-          phi.exchange_halo();
-        } else {
-          stepper_.rewrite_step_result(phi);
-        }
+        // The stepper writes its step's field again, bit for bit, and the component
+        // projection (deterministic) repeats what it did to it after the step.
+        stepper_.rewrite_step_result(phi);
+        if (components_) components_->project(phi);
         anderson_->reset();
         return;
       }
