@@ -211,11 +211,17 @@ PhaseComponents phase_components(const Field& phi, double level) {
         phase[std::size_t(id(i, j, k))] = v > level ? 1 : v < level ? 2 : 0;
       }
   // Joins cell (i, j, k) with its forward neighbours d = first..last-1 of the same phase.
+  // Where the next cell along x has the phase too (most cells), it is joined first, and the
+  // neighbours with d.x = 0 or 1 are skipped: they neighbour that cell as well, whose pair with
+  // them some cell's pass joins (this one's slab pass or the pass across a slab boundary,
+  // which skips nothing), so the sets are the same, with 5 joins instead of 13.
   const auto join_forward = [&](int i, int j, int k, int first, int last) {
     const std::int32_t c = id(i, j, k);
     const std::uint8_t p = phase[std::size_t(c)];
     if (p == 0) return;
+    const bool run = n >= 3 && first == 0 && phase[std::size_t(id(wrap(i + 1), j, k))] == p;
     for (int d = first; d < last; ++d) {
+      if (run && d > 0 && kForward[d][0] != -1) continue;
       const std::int32_t b =
           id(wrap(i + kForward[d][0]), wrap(j + kForward[d][1]), wrap(k + kForward[d][2]));
       if (phase[std::size_t(b)] == p) sets.join(c, b);
