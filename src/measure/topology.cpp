@@ -210,21 +210,48 @@ PhaseComponents phase_components(const Field& phi, double level) {
         const double v = phi(i, j, k);
         phase[std::size_t(id(i, j, k))] = v > level ? 1 : v < level ? 2 : 0;
       }
-  // Joins cell (i, j, k) with its forward neighbours d = first..last-1 of the same phase.
-  // Where the next cell along x has the phase too (most cells), it is joined first, and the
-  // neighbours with d.x = 0 or 1 are skipped: they neighbour that cell as well, whose pair with
-  // them some cell's pass joins (this one's slab pass or the pass across a slab boundary,
-  // which skips nothing), so the sets are the same, with 5 joins instead of 13.
-  const auto join_forward = [&](int i, int j, int k, int first, int last) {
-    const std::int32_t c = id(i, j, k);
-    const std::uint8_t p = phase[std::size_t(c)];
-    if (p == 0) return;
-    const bool run = n >= 3 && first == 0 && phase[std::size_t(id(wrap(i + 1), j, k))] == p;
-    for (int d = first; d < last; ++d) {
-      if (run && d > 0 && kForward[d][0] != -1) continue;
-      const std::int32_t b =
-          id(wrap(i + kForward[d][0]), wrap(j + kForward[d][1]), wrap(k + kForward[d][2]));
-      if (phase[std::size_t(b)] == p) sets.join(c, b);
+  // Joins each cell of row (j, k) with its forward neighbours d = first..last-1 of the same
+  // phase. Pairs that the closure of the other joins connects anyway are skipped (most of a
+  // bulk cell's 13), so the sets are the same. Along x the phase runs: c's next cell c + x of
+  // the phase is joined first, and then
+  //  - a neighbour n = c + d with d.x = 0 or 1 neighbours c + x as well, whose pair with it is
+  //    joined by c + x (or by the rule below, which reaches back to c);
+  //  - a neighbour n = c + d with d.x = -1, when c - x and n - x both have the phase, is
+  //    joined through them: c - x joins n - x (or reaches further back by this rule), and
+  //    n - x joins n along x. At i = 0 the rule does not apply, so every chain ends.
+  // Only the pass within a slab skips; the pass across a slab boundary joins every pair, so
+  // each pair skipped relies on a pair that some pass joins.
+  const std::uint8_t* const ph = phase.data();
+  const auto join_row = [&](int j, int k, int first, int last) {
+    std::int32_t row[13];  // the first cell of each neighbour's row
+    for (int d = first; d < last; ++d)
+      row[d] = id(0, wrap(j + kForward[d][1]), wrap(k + kForward[d][2]));
+    const std::int32_t here = id(0, j, k);
+    const bool skip = n >= 3 && first == 0;
+    for (int i = 0; i < n; ++i) {
+      const std::int32_t c = here + i;
+      const std::uint8_t p = ph[c];
+      if (p == 0) continue;
+      const int next = i + 1 < n ? i + 1 : 0, prev = i > 0 ? i - 1 : n - 1;
+      const int prev2 = i >= 2 ? i - 2 : i - 2 + n;
+      const bool run = skip && ph[here + next] == p;
+      const bool back = skip && i >= 1 && ph[c - 1] == p;
+      if (run && back) {  // inside a run (most cells): the same tests, without the table loop
+        sets.join(c, here + next);
+        for (const int d : {1, 4, 7, 10}) {
+          if (d >= last) break;
+          if (ph[row[d] + prev] == p && ph[row[d] + prev2] != p) sets.join(c, row[d] + prev);
+        }
+        continue;
+      }
+      for (int d = first; d < last; ++d) {
+        const int dx = kForward[d][0];
+        if (run && d > 0 && dx != -1) continue;
+        const std::int32_t b = row[d] + (dx < 0 ? prev : dx > 0 ? next : i);
+        if (ph[b] != p) continue;
+        if (back && dx < 0 && ph[row[d] + prev2] == p) continue;
+        sets.join(c, b);
+      }
     }
   };
   // Each thread joins within its slab of planes, whose cells' sets hold only cells of the slab
@@ -237,15 +264,13 @@ PhaseComponents phase_components(const Field& phi, double level) {
     const int k0 = int(std::int64_t(n) * t / threads);
     const int k1 = int(std::int64_t(n) * (t + 1) / threads);
     for (int k = k0; k < k1; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) join_forward(i, j, k, 0, k + 1 < k1 ? 13 : kForwardInPlane);
+      for (int j = 0; j < n; ++j) join_row(j, k, 0, k + 1 < k1 ? 13 : kForwardInPlane);
 #pragma omp single
     for (int u = 0; u < threads; ++u) slab_ends.push_back(int(std::int64_t(n) * (u + 1) / threads));
   }
   for (const int k1 : slab_ends)  // an empty slab repeats its neighbour's end: joined twice
     if (k1 > 0)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) join_forward(i, j, k1 - 1, kForwardInPlane, 13);
+      for (int j = 0; j < n; ++j) join_row(j, k1 - 1, kForwardInPlane, 13);
   // Every parent is at most its child (join keeps the smaller root, halving only shortens), so
   // one pass in index order points every cell at its root.
   std::vector<std::int32_t>& parent = sets.parent;
@@ -269,20 +294,25 @@ PhaseComponents phase_components(const Field& phi, double level) {
     std::vector<std::uint64_t> mine;
 #pragma omp for schedule(static) nowait
     for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
+      for (int j = 0; j < n; ++j) {
+        // The first cells of this row and of the four rows sharing its faces.
+        const std::int32_t here = id(0, j, k);
+        const std::int32_t rows[4] = {id(0, wrap(j - 1), k), id(0, wrap(j + 1), k),
+                                      id(0, j, wrap(k - 1)), id(0, j, wrap(k + 1))};
         for (int i = 0; i < n; ++i) {
-          const std::int32_t c = id(i, j, k);
-          if (phase[std::size_t(c)] != 1) continue;
-          for (int axis = 0; axis < 3; ++axis)
-            for (int s = -1; s <= 1; s += 2) {
-              const std::int32_t b = id(wrap(i + (axis == 0) * s), wrap(j + (axis == 1) * s),
-                                        wrap(k + (axis == 2) * s));
-              if (phase[std::size_t(b)] != 2) continue;
-              const std::uint64_t key =
-                  std::uint64_t(std::uint32_t(root(c))) << 32 | std::uint32_t(root(b));
-              if (mine.empty() || mine.back() != key) mine.push_back(key);
-            }
+          const std::int32_t c = here + i;
+          if (ph[c] != 1) continue;
+          const std::int32_t faces[6] = {here + (i > 0 ? i - 1 : n - 1),
+                                         here + (i + 1 < n ? i + 1 : 0),
+                                         rows[0] + i, rows[1] + i, rows[2] + i, rows[3] + i};
+          for (const std::int32_t b : faces) {
+            if (ph[b] != 2) continue;
+            const std::uint64_t key =
+                std::uint64_t(std::uint32_t(root(c))) << 32 | std::uint32_t(root(b));
+            if (mine.empty() || mine.back() != key) mine.push_back(key);
+          }
         }
+      }
 #pragma omp critical
     pairs.insert(pairs.end(), mine.begin(), mine.end());
   }
