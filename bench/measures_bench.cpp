@@ -66,6 +66,12 @@ void BM_PhaseComponents(benchmark::State& state, bool ref) {
   for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, 0.5).interfaces);
 }
 
+void BM_EulerCharacteristic(benchmark::State& state, bool ref) {
+  const Field phi = gyroid_phase_field(int(state.range(0)));
+  const auto kernel = ref ? euler_characteristic_ref : euler_characteristic;
+  for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, 0.5));
+}
+
 // The preview stage's two parts: the drawn surfaces (relaxed and nodal, kPreviewCells) and the
 // picture (four panels, rasterized).
 PreviewSurfaces gyroid_preview(int n) {
@@ -122,6 +128,10 @@ BENCHMARK(BM_CmcQuality)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMi
 BENCHMARK_CAPTURE(BM_PhaseComponents, fast, false)
     ->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PhaseComponents, ref, true)
+    ->Arg(128)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EulerCharacteristic, fast, false)
+    ->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EulerCharacteristic, ref, true)
     ->Arg(128)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PreviewSurfaces)->Arg(128)->Arg(256)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RenderPreview)->Arg(128)->UseRealTime()->Unit(benchmark::kMillisecond);

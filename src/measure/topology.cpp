@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numeric>
 #include <stdexcept>
@@ -39,23 +40,52 @@ inline bool in_phase(double v, double level) {
   return kPhase2 ? v < level : v > level;
 }
 
+// local_euler of every 2x2x2 neighbourhood, indexed by its bits: in[z][y][x] is bit
+// 4 z + 2 y + x.
+const std::array<std::int8_t, 256>& euler_table() {
+  static const std::array<std::int8_t, 256> table = [] {
+    std::array<std::int8_t, 256> t{};
+    for (int m = 0; m < 256; ++m) {
+      bool in[2][2][2];
+      for (int b = 0; b < 8; ++b) in[b >> 2][b >> 1 & 1][b & 1] = (m >> b & 1) != 0;
+      t[std::size_t(m)] = std::int8_t(local_euler(in));
+    }
+    return t;
+  }();
+  return table;
+}
+
 template <bool kPhase2>
 std::int64_t euler_of(const Field& phi, double level) {
   require_ghost(phi, 1, "euler_characteristic");
   CMCSURF_DCHECK(halo_is_current(phi));
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
+  const std::array<std::int8_t, 256>& table = euler_table();
   std::int64_t chi = 0;
+  // Along a row the neighbourhood of vertex i is the four cells (y, z) of columns i - 1 and i:
+  // each column's bits are found once and shifted into the low (x = 0) or high (x = 1) place.
 #pragma omp parallel for schedule(static) reduction(+ : chi) if (nx >= kParallelMinN)
   for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
+    for (int j = 0; j < ny; ++j) {
+      const double* r00 = &phi(0, j - 1, k - 1);
+      const double* r10 = &phi(0, j, k - 1);
+      const double* r01 = &phi(0, j - 1, k);
+      const double* r11 = &phi(0, j, k);
+      const auto column = [&](int i) {
+        return unsigned(in_phase<kPhase2>(r00[i], level)) |
+               unsigned(in_phase<kPhase2>(r10[i], level)) << 2 |
+               unsigned(in_phase<kPhase2>(r01[i], level)) << 4 |
+               unsigned(in_phase<kPhase2>(r11[i], level)) << 6;
+      };
+      unsigned low = column(-1);
+      std::int64_t row = 0;
       for (int i = 0; i < nx; ++i) {
-        bool in[2][2][2];
-        for (int z = 0; z < 2; ++z)
-          for (int y = 0; y < 2; ++y)
-            for (int x = 0; x < 2; ++x)
-              in[z][y][x] = in_phase<kPhase2>(phi(i - 1 + x, j - 1 + y, k - 1 + z), level);
-        chi += local_euler(in);
+        const unsigned high = column(i);
+        row += table[low | high << 1];
+        low = high;
       }
+      chi += row;
+    }
   double sum = double(chi);  // exact: |chi| <= 8 N^3 < 2^53
   sum = phi.sum_over_ranks(sum);
   return std::int64_t(sum);
