@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_set>
@@ -124,10 +125,14 @@ std::int64_t euler_of_ref(const Field& phi, double level) {
 
 // Union-find over cell indices, with path halving.
 struct DisjointSets {
-  std::vector<std::int32_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) {
-    std::iota(parent.begin(), parent.end(), 0);
+  std::unique_ptr<std::int32_t[]> parent;
+  // Every index its own set.
+  explicit DisjointSets(std::size_t n) : parent(new std::int32_t[n]) {
+    std::iota(parent.get(), parent.get() + n, 0);
   }
+  // Unset: the caller makes every index its own set (in the threads that will use it).
+  struct Unset {};
+  DisjointSets(std::size_t n, Unset) : parent(new std::int32_t[n]) {}
   std::int32_t find(std::int32_t a) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
@@ -231,14 +236,17 @@ PhaseComponents phase_components(const Field& phi, double level) {
   const auto wrap = [n](int i) { return i < 0 ? i + n : i >= n ? i - n : i; };
   const auto id = [n](int i, int j, int k) { return std::int32_t((k * n + j) * n + i); };
   // Each cell's phase: 1 above the level, 2 below, 0 at it (in neither closed-voxel union).
-  std::vector<std::uint8_t> phase(cells);
-  DisjointSets sets(cells);
+  // Both arrays are first written here, in parallel (no serial zeroing of 5 bytes a cell).
+  std::unique_ptr<std::uint8_t[]> phase(new std::uint8_t[cells]);
+  DisjointSets sets(cells, DisjointSets::Unset{});
 #pragma omp parallel for schedule(static) if (n >= kParallelMinN)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const double v = phi(i, j, k);
-        phase[std::size_t(id(i, j, k))] = v > level ? 1 : v < level ? 2 : 0;
+        const std::int32_t c = id(i, j, k);
+        phase[std::size_t(c)] = v > level ? 1 : v < level ? 2 : 0;
+        sets.parent[std::size_t(c)] = c;
       }
   // Joins each cell of row (j, k) with its forward neighbours d = first..last-1 of the same
   // phase. Pairs that the closure of the other joins connects anyway are skipped (most of a
@@ -251,7 +259,7 @@ PhaseComponents phase_components(const Field& phi, double level) {
   //    n - x joins n along x. At i = 0 the rule does not apply, so every chain ends.
   // Only the pass within a slab skips; the pass across a slab boundary joins every pair, so
   // each pair skipped relies on a pair that some pass joins.
-  const std::uint8_t* const ph = phase.data();
+  const std::uint8_t* const ph = phase.get();
   const auto join_row = [&](int j, int k, int first, int last) {
     std::int32_t row[13];  // the first cell of each neighbour's row
     for (int d = first; d < last; ++d)
@@ -303,7 +311,7 @@ PhaseComponents phase_components(const Field& phi, double level) {
       for (int j = 0; j < n; ++j) join_row(j, k1 - 1, kForwardInPlane, 13);
   // Every parent is at most its child (join keeps the smaller root, halving only shortens), so
   // one pass in index order points every cell at its root.
-  std::vector<std::int32_t>& parent = sets.parent;
+  std::int32_t* const parent = sets.parent.get();
   for (std::size_t c = 0; c < cells; ++c) parent[c] = parent[std::size_t(parent[c])];
   PhaseComponents out;
   std::int64_t roots1 = 0, roots2 = 0;
