@@ -253,9 +253,15 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
   }
   double reduced[5] = {total.area, total.area_h, total.area_h2, total.area_k, total.triangles};
   psi.sum_over_ranks(reduced, 5);
-  if (samples) {
-    samples->clear();
-    for (auto& p : planes) samples->insert(samples->end(), p.begin(), p.end());
+  if (samples) {  // in plane order, each plane copied by one thread
+    std::vector<std::size_t> start(planes.size() + 1, 0);
+    for (std::size_t k = 0; k < planes.size(); ++k) start[k + 1] = start[k] + planes[k].size();
+    samples->resize(start.back());
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      std::copy(planes[k].begin(), planes[k].end(), samples->begin() + std::ptrdiff_t(start[k]));
+      planes[k] = {};
+    }
   }
   return finish({reduced[0], reduced[1], reduced[2], reduced[3], reduced[4]});
 }
