@@ -66,7 +66,7 @@ constexpr float kMargin = 0.25f;
 // The rasterizer of both: tight (well-shaped triangles get the tight box) or the reference's
 // box. The sample loop is the reference's text, so that the compiler forms the same
 // operations (with -march=native it fuses some multiply-adds; an equivalent rewrite of the
-// loop, the tests in one branch, moved three samples of the README's preview by an ulp).
+// loop, the tests in one branch, changed three bytes of the README's preview.png).
 template <bool kTight>
 void Canvas::draw(std::span<const ScreenVertex> v,
                   std::span<const std::array<std::uint32_t, 3>> triangles) {
@@ -89,7 +89,7 @@ void Canvas::draw(std::span<const ScreenVertex> v,
       const float longest = std::max(
           {sq(b.x - a.x, b.y - a.y), sq(c.x - b.x, c.y - b.y), sq(a.x - c.x, a.y - c.y)});
       if (std::abs(area) >= kWellShaped * longest) {
-        // Only the centres x + 1/2 within kMargin of [xmin, xmax] (a third of the box for a
+        // Only the centres x + 1/2 within kMargin of [xmin, xmax] (about half the box for a
         // triangle a few samples wide).
         x0 = std::max(x0, int(std::ceil(xmin - 0.5f - kMargin)));
         x1 = std::min(x1, int(std::floor(xmax - 0.5f + kMargin)));
