@@ -1,8 +1,12 @@
 #include "measure/quality.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
@@ -92,9 +96,19 @@ OwnRangeHistogram own_range_histogram(const std::vector<CurvatureSample>& sample
 
 void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relaxed,
                         const std::vector<CurvatureSample>* nodal, const Decomposition* d) {
-  q.relaxed = summarize(relaxed, d);
+  // Each distribution and histogram is a serial pass in sample order (the sums' order is the
+  // result's bits); the independent ones run side by side, on a whole grid (a decomposed one
+  // reduces over the processes, in one order on every process: one at a time).
+  const bool side_by_side = d == nullptr && omp_get_max_threads() > 1;
+  FirstException errors;
+#pragma omp parallel for schedule(static, 1) num_threads(2) if (side_by_side && nodal)
+  for (int task = 0; task < 2; ++task)
+    errors.run([&] {
+      if (task == 0) q.relaxed = summarize(relaxed, d);
+      if (task == 1 && nodal) q.nodal = summarize(*nodal, d);
+    });
+  errors.rethrow();
   q.has_nodal = nodal != nullptr;
-  if (nodal) q.nodal = summarize(*nodal, d);
   double lo = q.relaxed.mean - 4.0 * q.relaxed.std, hi = q.relaxed.mean + 4.0 * q.relaxed.std;
   if (nodal) {
     lo = std::min(lo, q.nodal.mean - 4.0 * q.nodal.std);
@@ -106,10 +120,16 @@ void fill_distributions(CmcQuality& q, const std::vector<CurvatureSample>& relax
   }
   q.edges.resize(kHistogramBins + 1);
   for (int b = 0; b <= kHistogramBins; ++b) q.edges[b] = lo + (hi - lo) * b / kHistogramBins;
-  q.relaxed_hist = curvature_histogram(relaxed, lo, hi, kHistogramBins, d);
-  if (nodal) q.nodal_hist = curvature_histogram(*nodal, lo, hi, kHistogramBins, d);
-  q.relaxed_h_own = own_range_histogram(relaxed, false, kHistogramBins, d);
-  q.relaxed_k_own = own_range_histogram(relaxed, true, kHistogramBins, d);
+#pragma omp parallel for schedule(dynamic, 1) if (side_by_side)
+  for (int task = 0; task < 4; ++task)
+    errors.run([&] {
+      if (task == 0) q.relaxed_hist = curvature_histogram(relaxed, lo, hi, kHistogramBins, d);
+      if (task == 1 && nodal)
+        q.nodal_hist = curvature_histogram(*nodal, lo, hi, kHistogramBins, d);
+      if (task == 2) q.relaxed_h_own = own_range_histogram(relaxed, false, kHistogramBins, d);
+      if (task == 3) q.relaxed_k_own = own_range_histogram(relaxed, true, kHistogramBins, d);
+    });
+  errors.rethrow();
 }
 
 }  // namespace cmcsurf

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
+#include <cstring>
 
 namespace cmcsurf {
 namespace {
@@ -21,6 +24,35 @@ TEST(Quality, SpreadHasNoCancellationForANearlyConstantH) {
   std::vector<CurvatureSample> s;
   for (int i = 0; i < 1000; ++i) s.push_back({1e4 + (i % 2 ? 1e-6 : -1e-6), 1.0});
   EXPECT_NEAR(summarize(s).std, 1e-6, 1e-12);
+}
+
+// The distributions and histograms run side by side on two threads; each is still one pass in
+// sample order, so one thread gives the same bits.
+TEST(Quality, DistributionsAtOneAndTwoThreadsAreTheSameBits) {
+  std::vector<CurvatureSample> relaxed, nodal;
+  for (int i = 0; i < 5000; ++i) {
+    relaxed.push_back({1.0 + 0.01 * std::sin(0.37 * i), 1e-3 * (1 + i % 7), 0.5 * std::cos(i)});
+    nodal.push_back({1.0 + 0.3 * std::sin(0.11 * i), 1e-3 * (1 + i % 5), std::sin(0.5 * i)});
+  }
+  const int saved = omp_get_max_threads();
+  CmcQuality q[2];
+  for (int t = 0; t < 2; ++t) {
+    omp_set_num_threads(t + 1);
+    fill_distributions(q[t], relaxed, &nodal);
+  }
+  omp_set_num_threads(saved);
+  const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  };
+  EXPECT_EQ(std::memcmp(&q[0].relaxed, &q[1].relaxed, sizeof(CurvatureDistribution)), 0);
+  EXPECT_EQ(std::memcmp(&q[0].nodal, &q[1].nodal, sizeof(CurvatureDistribution)), 0);
+  EXPECT_TRUE(same(q[0].edges, q[1].edges));
+  EXPECT_TRUE(same(q[0].relaxed_hist, q[1].relaxed_hist));
+  EXPECT_TRUE(same(q[0].nodal_hist, q[1].nodal_hist));
+  EXPECT_TRUE(same(q[0].relaxed_h_own.fraction, q[1].relaxed_h_own.fraction));
+  EXPECT_TRUE(same(q[0].relaxed_k_own.fraction, q[1].relaxed_k_own.fraction));
+  EXPECT_TRUE(same(q[0].relaxed_k_own.edges, q[1].relaxed_k_own.edges));
+  EXPECT_GT(q[0].nodal.std, 10 * q[0].relaxed.std);  // two different distributions
 }
 
 TEST(Quality, HistogramIsAFractionOfArea) {

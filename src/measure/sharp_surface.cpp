@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -199,30 +200,48 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
   std::vector<std::vector<CurvatureSample>> planes(samples ? nz : 0);
   std::vector<Sums> plane_sums(nz);
   // Dual cell (i, j, k) spans cells i..i+1, j..j+1, k..k+1 (the last one reaches the ghosts);
-  // the curvature at its corners reads one more layer. Samples are appended: an allocation.
+  // the curvature at its corners reads one more layer. A cell is a corner of up to four dual
+  // cells of a plane: each thread keeps the corners' H and K of its current plane (planes k
+  // and k + 1), computed on first use, so that each is computed once per plane instead of once
+  // per dual cell (the same function of the same values: the same bits). Samples are appended:
+  // an allocation.
+  const std::size_t layer = std::size_t(nx + 1) * (ny + 1);
   FirstException errors;
-#pragma omp parallel for schedule(dynamic, 1) if (nx >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    errors.run([&] {
-      Sums sums;
-      std::vector<CurvatureSample>* out = samples ? &planes[k] : nullptr;
-      for (int j = 0; j < ny; ++j) {
-        const double* row = &psi(0, j, k);
-        for (int i = 0; i < nx; ++i) {
-          const double* p = row + i;
-          double s[8];
-          for (int c = 0; c < 8; ++c) s[c] = p[off[c]];
-          if (!crosses(s)) continue;
-          double hc[8], kc[8];
-          for (int c = 0; c < 8; ++c) {
-            hc[c] = level_set_mean_curvature(p + off[c], sy, sz, inv_h);
-            kc[c] = level_set_gaussian_curvature(p + off[c], sy, sz, inv_h);
+#pragma omp parallel if (nx >= kParallelMinN)
+  {
+    std::vector<double> hcache(2 * layer), kcache(2 * layer);
+    std::vector<std::uint8_t> known(2 * layer);
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < nz; ++k)
+      errors.run([&] {
+        Sums sums;
+        std::vector<CurvatureSample>* out = samples ? &planes[k] : nullptr;
+        std::fill(known.begin(), known.end(), std::uint8_t(0));
+        for (int j = 0; j < ny; ++j) {
+          const double* row = &psi(0, j, k);
+          for (int i = 0; i < nx; ++i) {
+            const double* p = row + i;
+            double s[8];
+            for (int c = 0; c < 8; ++c) s[c] = p[off[c]];
+            if (!crosses(s)) continue;
+            double hc[8], kc[8];
+            for (int c = 0; c < 8; ++c) {
+              const std::size_t at = (c >> 2) * layer + std::size_t(j + (c >> 1 & 1)) * (nx + 1) +
+                                     std::size_t(i + (c & 1));
+              if (!known[at]) {
+                hcache[at] = level_set_mean_curvature(p + off[c], sy, sz, inv_h);
+                kcache[at] = level_set_gaussian_curvature(p + off[c], sy, sz, inv_h);
+                known[at] = 1;
+              }
+              hc[c] = hcache[at];
+              kc[c] = kcache[at];
+            }
+            add_cube(s, hc, kc, h2, sums, out);
           }
-          add_cube(s, hc, kc, h2, sums, out);
         }
-      }
-      plane_sums[k] = sums;
-    });
+        plane_sums[k] = sums;
+      });
+  }
   errors.rethrow();
   Sums total;  // in plane order, so the result does not depend on the thread count
   for (const Sums& s : plane_sums) {
@@ -234,9 +253,15 @@ LevelSetSurface level_set_surface(const Field& psi, std::vector<CurvatureSample>
   }
   double reduced[5] = {total.area, total.area_h, total.area_h2, total.area_k, total.triangles};
   psi.sum_over_ranks(reduced, 5);
-  if (samples) {
-    samples->clear();
-    for (auto& p : planes) samples->insert(samples->end(), p.begin(), p.end());
+  if (samples) {  // in plane order, each plane copied by one thread
+    std::vector<std::size_t> start(planes.size() + 1, 0);
+    for (std::size_t k = 0; k < planes.size(); ++k) start[k + 1] = start[k] + planes[k].size();
+    samples->resize(start.back());
+#pragma omp parallel for schedule(static) if (nx >= kParallelMinN)
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      std::copy(planes[k].begin(), planes[k].end(), samples->begin() + std::ptrdiff_t(start[k]));
+      planes[k] = {};
+    }
   }
   return finish({reduced[0], reduced[1], reduced[2], reduced[3], reduced[4]});
 }

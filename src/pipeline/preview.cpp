@@ -1,6 +1,7 @@
 #include "pipeline/preview.h"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -8,6 +9,7 @@
 
 #include "common/wall_clock.h"
 #include "measure/sharp_surface.h"
+#include "parallel/first_exception.h"
 #include "surfaces/initial.h"
 #include "surfaces/nodal_level.h"
 
@@ -22,22 +24,44 @@ Field profile_inverse(const Field& phi) {
 PreviewSurfaces preview_surfaces(const Field& psi, const std::string& surface, double nodal_level,
                                  double mean_curvature, int max_cells, bool with_nodal) {
   PreviewSurfaces out;
-  out.relaxed = draw_surface(psi, max_cells);  // collective on a decomposed grid
   const Decomposition* d = psi.decomposition();
-  if (d && d->rank() != 0) return out;  // rank 0 draws (the rest is small)
-  double spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
-  if (with_nodal && is_nodal_surface(surface)) {
+  const bool nodal = with_nodal && is_nodal_surface(surface);
+  // The nodal surface, its spread: rank 0 alone.
+  double nodal_spread = 0.0;
+  const auto draw_nodal = [&] {
     // F is a trigonometric polynomial: sampled on the drawing lattice itself its curvature is
     // already good to O(h^2) there, and at 256^3 that saves 63 of every 64 evaluations.
     InitialFieldParams init;
     init.surface = surface;
-    NodalLevelSet nodal;
-    nodal.f = make_initial_field(init, psi.n() / draw_stride(psi.n(), max_cells), 2);
-    nodal.level = nodal_level;
-    out.nodal = draw_surface(nodal_level_function(nodal), max_cells);
+    NodalLevelSet level_set;
+    level_set.f = make_initial_field(init, psi.n() / draw_stride(psi.n(), max_cells), 2);
+    level_set.level = nodal_level;
+    out.nodal = draw_surface(nodal_level_function(level_set), max_cells);
     out.has_nodal = true;
-    spread = std::max(spread, curvature_spread(out.nodal, mean_curvature, 0.95));
+    nodal_spread = curvature_spread(out.nodal, mean_curvature, 0.95);
+  };
+  double spread = 0.0;
+  if (d && d->distributed()) {
+    out.relaxed = draw_surface(psi, max_cells);  // collective
+    if (d->rank() != 0) return out;  // rank 0 draws (the rest is small)
+    spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
+    if (nodal) draw_nodal();
+  } else {
+    // The two surfaces are independent (each a serial extraction and a sort): one a thread.
+    FirstException errors;
+#pragma omp parallel for schedule(static, 1) num_threads(2) if (nodal && omp_get_max_threads() > 1)
+    for (int task = 0; task < 2; ++task)
+      errors.run([&] {
+        if (task == 0) {
+          out.relaxed = draw_surface(psi, max_cells);
+          spread = curvature_spread(out.relaxed, mean_curvature, 0.95);
+        } else if (nodal) {
+          draw_nodal();
+        }
+      });
+    errors.rethrow();
   }
+  spread = std::max(spread, nodal_spread);
   out.scale.centre = mean_curvature;
   out.scale.half_range = std::max(spread, 1e-3 * std::max(1.0, std::abs(mean_curvature)));
   return out;

@@ -40,6 +40,12 @@ class Canvas {
   // Draws the triangles (vertex indices into v) with the depth test; coordinates in samples.
   void draw_triangles(std::span<const ScreenVertex> v,
                       std::span<const std::array<std::uint32_t, 3>> triangles);
+  // Plain twin: every sample of the box of whole pixels around each triangle (and one more
+  // row and column). draw_triangles tests fewer samples and writes the same bits.
+  void draw_triangles_ref(std::span<const ScreenVertex> v,
+                          std::span<const std::array<std::uint32_t, 3>> triangles);
+  // Whether every sample's depth, colour and normal are the same bits as o's.
+  bool same_samples(const Canvas& o) const;
   // A line of width ~1 output pixel in colour c, depth-tested against what is drawn (with a
   // small bias towards the viewer), coordinates in samples.
   void draw_line(float x0, float y0, float z0, float x1, float y1, float z1, Rgb c);
@@ -49,6 +55,9 @@ class Canvas {
   Image resolve(const Shading& shading = {}) const;
 
  private:
+  template <bool kTight>
+  void draw(std::span<const ScreenVertex> v,
+            std::span<const std::array<std::uint32_t, 3>> triangles);
   int w_, h_, ss_;
   Rgb background_;
   std::vector<Rgb> color_;                  // unshaded colour of the nearest sample

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "render/colormap.h"
 #include "render/text.h"
@@ -91,6 +92,43 @@ TEST(Raster, ColourIsInterpolatedAcrossATriangle) {
   const Image img = canvas.resolve(kFlat);
   // At pixel centre x = 20.5 (y small) the weight of the white vertex is 0.205.
   EXPECT_NEAR(img.pixel(20, 2)[0], 0.205 * 255, 1.0);
+}
+
+TEST(Raster, TightBoxDrawsTheSameSamplesAsTheReference) {
+  // Triangles a few samples wide (the preview's), large ones, slivers and near-degenerate
+  // ones, some reaching off the canvas, their corners often on or next to sample centres,
+  // where the edge tests are closest to the box's edge; drawn in one order by both.
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const auto snap = [&](float x) {  // half of them on a 1/8 lattice (centres are on it)
+    return unit(rng) < 0.5f ? std::round(x * 8.0f) / 8.0f : x;
+  };
+  std::vector<ScreenVertex> v;
+  std::vector<std::array<std::uint32_t, 3>> t;
+  for (std::uint32_t k = 0; k < 20000; ++k) {
+    const int kind = int(k % 4);
+    const float size = kind == 0 ? 40.0f : kind == 3 ? 0.7f : 4.0f;
+    const float cx = -5.0f + 110.0f * unit(rng), cy = -5.0f + 110.0f * unit(rng);
+    float x[3], y[3];
+    for (int c = 0; c < 3; ++c) {
+      x[c] = snap(cx + size * (unit(rng) - 0.5f));
+      y[c] = snap(cy + size * (unit(rng) - 0.5f));
+    }
+    if (kind == 2) {  // a sliver: the third corner near the line through the first two
+      const float f = unit(rng), d = 1e-3f * (unit(rng) - 0.5f);
+      x[2] = x[0] + f * (x[1] - x[0]) + d;
+      y[2] = y[0] + f * (y[1] - y[0]) - d;
+    }
+    for (int c = 0; c < 3; ++c)
+      v.push_back({x[c], y[c], unit(rng), {unit(rng), unit(rng), unit(rng)}, unit(rng),
+                   unit(rng), unit(rng)});
+    t.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  Canvas fast(100, 100, 1, {1, 1, 1}), ref(100, 100, 1, {1, 1, 1});
+  fast.draw_triangles(v, t);
+  ref.draw_triangles_ref(v, t);
+  EXPECT_GT(ref.covered(), 9000u);
+  EXPECT_TRUE(fast.same_samples(ref));
 }
 
 TEST(Raster, LightingIsTwoSidedAndDarkensGrazingNormals) {
