@@ -139,9 +139,13 @@ void Progress::print(const StepRecord& r, bool new_stage) {
   last_print_ = r.elapsed;
   last_stage_ = stage_text(r);
   last_printed_ = true;
-  const std::string line =
-      fmt::format("{:<8} step {:>6}  t {:9.4f}  area {:.8f}  dA {:+.3e}  V-cycles {:>2}  {:7.1f} s",
-                  stage_text(r), r.step, r.time, r.area, r.d_area, r.vcycles, r.elapsed);
+  // The equilibrium stop rule's residual where it runs (the finest grid of the fast mode).
+  const std::string equilibrium =
+      std::isfinite(r.equilibrium_residual) ? fmt::format("  eq {:.2e}", r.equilibrium_residual)
+                                            : std::string();
+  const std::string line = fmt::format(
+      "{:<8} step {:>6}  t {:9.4f}  area {:.8f}  dA {:+.3e}  V-cycles {:>2}{}  {:7.1f} s",
+      stage_text(r), r.step, r.time, r.area, r.d_area, r.vcycles, equilibrium, r.elapsed);
   if (tty_) {
     if (new_stage && pending_newline_) std::fputc('\n', stderr);
     std::fprintf(stderr, "\r%s", line.c_str());

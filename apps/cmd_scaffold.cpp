@@ -16,6 +16,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "driver/scaffold_run.h"
+#include "model/run_options.h"
 
 namespace cmcsurf::cli {
 
@@ -371,6 +372,15 @@ CommandFn add_scaffold_command(CLI::App& root) {
     cmd->given.emplace_back(option.key, added);
   }
   add_run_options(*app, cmd->params, cmd->strings, false);
+  // The part's lattice is the member's grid tiled: a scaffold's default grid is its own.
+  if (CLI::Option* grid = app->get_option_no_throw("--grid")) {
+    grid->description(fmt::format(
+        "Cells per side N of the member (m * 2^k, m in {{1,3,5,7}}, N >= 8); the part's lattice "
+        "spacing is --cell-size / N (default {} in the fast mode, {} with --paper; "
+        "--resolution sets it in --units instead)",
+        kScaffoldGrid, kPaperGrid));
+    grid->default_str(std::to_string(kScaffoldGrid));
+  }
   add_threads_option(*app, cmd->threads);
   app->add_flag("--quiet", cmd->quiet, "No progress or summary output");
   return {app, [cmd]() -> int { return run_scaffold(*cmd); }};

@@ -86,7 +86,7 @@ def test_progress_gets_a_dict_per_step():
     assert records[0]["stage"] == "prerelax" and records[-1]["area"] == h["area"][-1]
     assert set(records[0]) == {"step", "stage", "time", "dt", "area", "d_area", "d_phi",
                                "energy", "mass", "vcycles", "residual", "elapsed",
-                               "volume_fraction"}
+                               "volume_fraction", "equilibrium_residual"}
 
 
 def test_an_exception_in_progress_stops_the_run_and_propagates():

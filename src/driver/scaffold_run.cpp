@@ -717,11 +717,14 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
                                   "none)", o.min_feature, kMaxCellSize));
   d.min_feature = o.min_feature;
   const nlohmann::json mesh_size = apply_mesh_size(o, choices.given.count("grid") > 0, params, d);
+  const bool default_grid =
+      !params.paper && o.resolution == 0.0 && choices.given.count("grid") == 0;
+  if (default_grid) params.grid = kScaffoldGrid;
   std::optional<Targets> targets = plan_targets(o, d);
   params.volume_fraction = member_volume_fraction(d);
   {
     RunChoices c = choices;
-    if (o.resolution != 0.0) c.given.insert("grid");  // --fast keeps the grid it chose
+    if (o.resolution != 0.0 || default_grid) c.given.insert("grid");  // --fast keeps it
     finish_run_params(params, c, true);
   }
   if (ramp) ramp->fraction_tol = params.volume_tol;  // the members' own tolerance

@@ -39,8 +39,11 @@ void to_json(nlohmann::json& j, const StepRecord& r) {
     std::visit([&](const auto& v) { j[std::string(c.name)] = v; }, history_value(r, c.id));
 }
 void from_json(const nlohmann::json& j, StepRecord& r) {
-  for (const HistoryColumnInfo& c : history_column_table())
+  for (const HistoryColumnInfo& c : history_column_table()) {
+    // Checkpoints written before the equilibrium residual was recorded lack it (NaN).
+    if (c.id == HistoryColumn::kEquilibriumResidual && !j.contains(std::string(c.name))) continue;
     set_history_value(r, c.id, j.at(std::string(c.name)));
+  }
 }
 // The cursor's stage by its name; another name is refused as check_state always did.
 void to_json(nlohmann::json& j, RunStage s) { j = std::string(run_stage_name(s)); }

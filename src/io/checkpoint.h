@@ -81,6 +81,11 @@ void write_checkpoint(const std::filesystem::path& path, const nlohmann::json& p
                       const nlohmann::json& outputs = nlohmann::json::object(),
                       bool in_pieces = false);
 
+// A step of the history as the header keeps it: history.csv's columns by name. A step written
+// before the equilibrium_residual column existed reads it as NaN (the rule's "not measured").
+void to_json(nlohmann::json& j, const StepRecord& r);
+void from_json(const nlohmann::json& j, StepRecord& r);
+
 struct CheckpointReadOptions {
   int max_n = 1 << 13;  // refuse larger grids before allocating
   // The program version and build a checkpoint must come from (empty: any). A run resumes

@@ -82,6 +82,32 @@ TEST(Checkpoint, RoundTripKeepsEveryBit) {
     for_each_cell(*x, [&](int i, int j, int k) { ASSERT_EQ((*x)(i, j, k), (*y)(i, j, k)); });
 }
 
+// The equilibrium rule's residual of each step travels in the history, "not measured" (NaN)
+// included; a step written before the column existed reads as not measured.
+TEST(Checkpoint, HistoryKeepsTheEquilibriumResidual) {
+  const Sample& s = sample();
+  ASSERT_GE(s.checkpoint.result.history.size(), 2u);
+  Checkpoint c = s.checkpoint;
+  c.result.history[0].equilibrium_residual = 1.0 / 3.0 * 1e-3;
+  c.result.history[1].equilibrium_residual = std::nan("");
+  TempDir tmp("cmcsurf-ckpt");
+  write_checkpoint(tmp / "e.bin", params_json(s.params), c);
+  const Checkpoint back = read_checkpoint(tmp / "e.bin").checkpoint;
+  EXPECT_EQ(back.result.history[0].equilibrium_residual, 1.0 / 3.0 * 1e-3);
+  EXPECT_TRUE(std::isnan(back.result.history[1].equilibrium_residual));
+
+  nlohmann::json older = c.result.history[0];
+  ASSERT_TRUE(older.contains("equilibrium_residual"));
+  older.erase("equilibrium_residual");
+  StepRecord r = older.get<StepRecord>();
+  EXPECT_TRUE(std::isnan(r.equilibrium_residual));
+  EXPECT_EQ(r.area, c.result.history[0].area);
+  EXPECT_EQ(r.step, c.result.history[0].step);
+  // A null (JSON's form of a NaN) reads as not measured too.
+  older["equilibrium_residual"] = nullptr;
+  EXPECT_TRUE(std::isnan(older.get<StepRecord>().equilibrium_residual));
+}
+
 // A mixer's state as a run holds it: depth 3, two columns in ring slots 2 and 0 (the ring
 // wrapped), slot 1 stale; values whose decimal forms are not exact.
 AndersonState sample_mixer(std::size_t cells) {

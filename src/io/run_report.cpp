@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <limits>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -325,6 +326,7 @@ HistoryValue history_value(const StepRecord& r, HistoryColumn c) {
     case HistoryColumn::kElapsed: return r.elapsed;
     case HistoryColumn::kDt: return r.dt;
     case HistoryColumn::kVolumeFraction: return r.volume_fraction;
+    case HistoryColumn::kEquilibriumResidual: return r.equilibrium_residual;
   }
   throw std::logic_error("history_value: a column without a case");
 }
@@ -372,6 +374,10 @@ void set_history_value(StepRecord& r, HistoryColumn c, const nlohmann::json& v) 
     case HistoryColumn::kElapsed: v.get_to(r.elapsed); return;
     case HistoryColumn::kDt: v.get_to(r.dt); return;
     case HistoryColumn::kVolumeFraction: v.get_to(r.volume_fraction); return;
+    case HistoryColumn::kEquilibriumResidual:  // JSON keeps a NaN as null
+      r.equilibrium_residual =
+          v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+      return;
   }
   throw std::logic_error("set_history_value: a column without a case");
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -164,6 +165,10 @@ struct StepRecord {
   int vcycles = 0;
   double residual = 0.0;
   double elapsed = 0.0;   // wall seconds since the run started
+  // The equilibrium stop rule's residual after the step (measure/measures.h
+  // equilibrium_residual); NaN where the rule did not run (coarser grids, --paper, a
+  // pre-relaxation, steps recorded before the column existed).
+  double equilibrium_residual = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct BisectionResult {

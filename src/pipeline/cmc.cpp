@@ -343,9 +343,9 @@ class Evolution {
     result_.prerelax_steps = params_.prerelax_steps;
   }
 
-  // One step at the stepper's epsilon and dt, recorded in the history. With nu_sums the
-  // history's pass also takes the stop rule's first sums (last_nu_sums_).
-  StepRecord advance(RunStage stage, double area_before, bool nu_sums = false) {
+  // One step at the stepper's epsilon and dt, recorded in the history. With `equilibrium` the
+  // record has the stop rule's residual (the history's pass takes its first sums).
+  StepRecord advance(RunStage stage, double area_before, bool equilibrium = false) {
     Field& phi = result_.phi;
     const double eps = stepper_.params().epsilon;
     const double dt = stepper_.params().dt;
@@ -369,12 +369,14 @@ class Evolution {
     r.stage = stage;
     r.time = time_;
     r.dt = dt;
-    // The equilibrium rule measures at params_.epsilon; a stepper at another gets none.
-    nu_sums_valid_ = nu_sums && eps == params_.epsilon;
+    // The equilibrium rule measures at params_.epsilon; the history's pass gives its first
+    // sums when the stepper is at that epsilon.
+    const bool nu_sums = equilibrium && eps == params_.epsilon;
     const StepMeasures m = step_measures(
-        phi, stepper_.phi_before_step() ? *stepper_.phi_before_step() : previous_, eps,
-        nu_sums_valid_);
-    last_nu_sums_ = m.nu_sums;
+        phi, stepper_.phi_before_step() ? *stepper_.phi_before_step() : previous_, eps, nu_sums);
+    if (equilibrium)
+      r.equilibrium_residual = nu_sums ? equilibrium_residual(phi, params_.epsilon, m.nu_sums)
+                                       : equilibrium_residual(phi, params_.epsilon);
     r.area = m.area;
     r.d_area = r.area - area_before;
     r.d_phi = m.d_phi;
@@ -449,9 +451,7 @@ class Evolution {
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
       if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
-        met = (nu_sums_valid_ ? equilibrium_residual(result_.phi, params_.epsilon, last_nu_sums_)
-                              : equilibrium_residual(result_.phi, params_.epsilon)) <=
-              params_.equilibrium_tol;
+        met = r.equilibrium_residual <= params_.equilibrium_tol;
       if (volume_rate > 0.0) {
         met = met && std::abs(r.volume_fraction - v) <= volume_rate;
         v = r.volume_fraction;
@@ -599,8 +599,6 @@ class Evolution {
   std::optional<ComponentConstraint> components_;
   std::optional<AndersonMixer> anderson_;
   // The last step's weighted sums of nu (step_measures), valid when it took them.
-  WeightedNuSums last_nu_sums_;
-  bool nu_sums_valid_ = false;
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
   bool anderson_carried_ = true;

@@ -549,6 +549,11 @@ const std::vector<HistoryColumnInfo> kHistoryColumns = {
     {HistoryColumn::kDt, "dt", HistoryType::kNumber, "{:.17g}", "", "the step's time step"},
     {HistoryColumn::kVolumeFraction, "volume_fraction", HistoryType::kNumber, "{:.17g}", "",
      "sharp volume fraction after the step"},
+    {HistoryColumn::kEquilibriumResidual, "equilibrium_residual", HistoryType::kNumber,
+     "{:.6e}", "",
+     "the equilibrium stop rule's residual after the step (report.json's "
+     "equilibrium_residual; the run stops once it is at most --equilibrium-tol); nan where the "
+     "rule does not run: coarser grids of the continuation, --paper, the pre-relaxation"},
 };
 
 const std::vector<std::string_view> kSweepLeading = {"surface",

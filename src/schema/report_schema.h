@@ -75,7 +75,7 @@ std::optional<RunStage> parse_run_stage(std::string_view name);
 
 enum class HistoryColumn {
   kStep, kStage, kTime, kArea, kDArea, kDPhi, kEnergy, kMass, kVcycles, kResidual, kElapsed,
-  kDt, kVolumeFraction,
+  kDt, kVolumeFraction, kEquilibriumResidual,
 };
 enum class HistoryType { kInt, kText, kNumber };
 

@@ -65,7 +65,7 @@ TEST(ReportSchema, NumbersAreFormattedAsTheTablesAlwaysWereWritten) {
 TEST(ReportSchema, HistoryColumnsAndStages) {
   EXPECT_EQ(history_header(),
             "step,stage,time,area,d_area,d_phi,energy,mass,vcycles,residual,elapsed,dt,"
-            "volume_fraction");
+            "volume_fraction,equilibrium_residual");
   int i = 0;
   for (const HistoryColumnInfo& c : history_column_table()) EXPECT_EQ(int(c.id), i++) << c.name;
   for (RunStage s : {RunStage::kPrerelax, RunStage::kRelax, RunStage::kVolume})

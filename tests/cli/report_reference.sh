@@ -40,7 +40,7 @@ fail=0
 python3 "$here/../../scripts/sweep_table.py" --cmcsurf "$bin" sweep/sweep.csv >sweep_table.md ||
   fail=1
 PYTHONPATH="$support" python3 - "$here/report_reference" "$work" <<'PY' || fail=1
-import csv, io, json, re, sys
+import csv, io, json, math, re, sys
 from report_keys import SCHEMA, TIMING_KEYS, differing_keys, undeclared_keys
 
 ref, got = sys.argv[1], sys.argv[2]
@@ -90,6 +90,8 @@ def same_cell(x, y):
     u, v = number(x), number(y)
     if u is None or v is None or ("." not in x and "e" not in x and "." not in y):
         return x == y  # text, and integers (steps, V-cycles)
+    if math.isnan(u) or math.isnan(v):
+        return math.isnan(u) and math.isnan(v)
     return u == v or abs(u - v) <= RTOL * max(abs(u), abs(v)) + 1e-12
 
 def compare_csv(name, ours, timing):
