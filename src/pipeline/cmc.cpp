@@ -370,10 +370,14 @@ class Evolution {
     r.time = time_;
     r.dt = dt;
     // The equilibrium rule measures at params_.epsilon; a stepper at another gets none.
+    // The spread's shift: the last step's weighted mean of nu (equilibrium_met runs the
+    // second pass where it is not close enough).
+    const double nu_shift =
+        nu_sums_valid_ && last_nu_sums_.w > 0.0 ? last_nu_sums_.nu_w / last_nu_sums_.w : 0.0;
     nu_sums_valid_ = nu_sums && eps == params_.epsilon;
     const StepMeasures m = step_measures(
         phi, stepper_.phi_before_step() ? *stepper_.phi_before_step() : previous_, eps,
-        nu_sums_valid_);
+        nu_sums_valid_, nu_shift);
     last_nu_sums_ = m.nu_sums;
     r.area = m.area;
     r.d_area = r.area - area_before;
@@ -449,9 +453,10 @@ class Evolution {
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
       if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
-        met = (nu_sums_valid_ ? equilibrium_residual(result_.phi, params_.epsilon, last_nu_sums_)
-                              : equilibrium_residual(result_.phi, params_.epsilon)) <=
-              params_.equilibrium_tol;
+        met = nu_sums_valid_ ? equilibrium_met(result_.phi, params_.epsilon, last_nu_sums_,
+                                               params_.equilibrium_tol)
+                             : equilibrium_residual(result_.phi, params_.epsilon) <=
+                                   params_.equilibrium_tol;
       if (volume_rate > 0.0) {
         met = met && std::abs(r.volume_fraction - v) <= volume_rate;
         v = r.volume_fraction;
