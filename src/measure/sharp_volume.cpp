@@ -1,6 +1,7 @@
 #include "measure/sharp_volume.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -35,6 +36,17 @@ inline double dual_cell_sixths(const double* p, const std::ptrdiff_t off[8], dou
     hi = std::max(hi, v[c]);
   }
   return lo > level ? 6.0 : hi > level ? cube_sixfold_fraction(v, level) : 0.0;
+}
+
+// sum + 6 + 6 + ... (count times, in that order). Where sum and the total share a binade,
+// every partial sum lies in it too and 6 is a multiple of its spacing (sum < 2^53), so each
+// addition is exact and one addition of 6 count gives the same bits; where they do not, the
+// additions run one by one.
+inline double add_sixes(double sum, int count) {
+  const double total = sum + 6.0 * count;
+  if (sum > 0.0 && std::ilogb(sum) == std::ilogb(total)) return total;
+  for (int c = 0; c < count; ++c) sum += 6.0;
+  return sum;
 }
 
 }  // namespace
@@ -225,7 +237,10 @@ void SharpVolumeSweep::add_plane(int k, double& sixths) {
     if (!any) continue;
     for (int i = 0; i < nx; ++i) {
       if (cut[i] == 1) {
-        sixths += 6.0;
+        int end = i + 1;
+        while (end < nx && cut[end] == 1) ++end;
+        sixths = add_sixes(sixths, end - i);
+        i = end - 1;
       } else if (cut[i] == 2) {
         const std::ptrdiff_t at = at0 + i;
         double v[8];
