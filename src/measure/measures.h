@@ -100,9 +100,9 @@ struct StepMeasures {
   WeightedNuSums nu_sums;  // zero unless asked for
 };
 // area, energy, mass, l2_diff(phi, before), sharp_volume_fraction and, with nu_sums, the
-// weighted sums of nu (WeightedNuSums), in one pass over phi instead of six: each value has the same bits as
-// its own function's (each sum keeps its own order of additions). Needs ghost >= 2 and a
-// current halo; before: interior.
+// weighted sums of nu (WeightedNuSums), in one pass over phi instead of six: each value has the
+// same bits as its own function's (each sum keeps its own order of additions). Needs ghost >= 2
+// and a current halo; before: interior.
 // nu_shift: the shift of nu_sums' shifted sum.
 StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums,
                            double nu_shift = 0.0);
