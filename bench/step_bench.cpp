@@ -136,6 +136,14 @@ void BM_AndersonMix(benchmark::State& state, bool ref) {
   set_bytes(state, n, 72);
 }
 
+// A periodic halo exchange of a field with one ghost layer (the V-cycle's levels) and with two
+// (phi): copies the six faces, about 6 (n + 2g)^2 g doubles; the x faces are runs of g per row.
+void BM_ExchangeHalo(benchmark::State& state) {
+  const int n = int(state.range(0)), ghost = int(state.range(1));
+  Field f = random_field(n, ghost, 0, 1, 8);
+  for (auto _ : state) f.exchange_halo();
+}
+
 constexpr auto kMs = benchmark::kMillisecond;
 BENCHMARK_CAPTURE(BM_StepMeasures, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK_CAPTURE(BM_StepMeasures, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
@@ -150,6 +158,7 @@ BENCHMARK(BM_EquilibriumSpread)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_Energy)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK_CAPTURE(BM_AndersonMix, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK_CAPTURE(BM_AndersonMix, ref, true)->Arg(128)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_ExchangeHalo)->Args({64, 1})->Args({128, 1})->Args({128, 2})->Unit(kMs);
 
 }  // namespace
 }  // namespace cmcsurf
