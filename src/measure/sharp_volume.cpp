@@ -1,7 +1,6 @@
 #include "measure/sharp_volume.h"
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -36,17 +35,6 @@ inline double dual_cell_sixths(const double* p, const std::ptrdiff_t off[8], dou
     hi = std::max(hi, v[c]);
   }
   return lo > level ? 6.0 : hi > level ? cube_sixfold_fraction(v, level) : 0.0;
-}
-
-// sum + 6 + 6 + ... (count times, in that order). Where sum and the total share a binade,
-// every partial sum lies in it too and 6 is a multiple of its spacing (sum < 2^53), so each
-// addition is exact and one addition of 6 count gives the same bits; where they do not, the
-// additions run one by one.
-inline double add_sixes(double sum, int count) {
-  const double total = sum + 6.0 * count;
-  if (sum > 0.0 && std::ilogb(sum) == std::ilogb(total)) return total;
-  for (int c = 0; c < count; ++c) sum += 6.0;
-  return sum;
 }
 
 }  // namespace
