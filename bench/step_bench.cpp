@@ -5,6 +5,7 @@
 // kernels_bench.cpp in the same process.
 #include <benchmark/benchmark.h>
 
+#include "cahn_hilliard/anderson.h"
 #include "cahn_hilliard/operator.h"
 #include "cahn_hilliard/time_step.h"
 #include "grid/field.h"
@@ -30,7 +31,7 @@ void BM_StepMeasures(benchmark::State& state, bool ref) {
   const int n = int(state.range(0));
   const Field phi = testing::gyroid_field(n, 2), before = random_field(n, 0, 0, 1, 2);
   const auto kernel = ref ? step_measures_ref : step_measures;
-  for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, before, 0.02, true));
+  for (auto _ : state) benchmark::DoNotOptimize(kernel(phi, before, 0.02, true, 0.0));
   set_bytes(state, n, 16);
 }
 
@@ -106,6 +107,43 @@ void BM_Energy(benchmark::State& state) {
   set_bytes(state, n, 8);
 }
 
+// One Anderson mix at depth 3 with its three columns (two passes over the step's x and G and
+// the float history: reads x, G, the last F and c and three dF, dG columns, writes G, the new
+// dF, dG, F and c: 8 + 8 + 8 x 4 reads and 8 + 4 x 4 writes, 72 bytes per cell); the `_ref` is
+// AndersonMixerRef, the test twin (plain loops over a double history), at 128^3 only.
+void BM_AndersonMix(benchmark::State& state, bool ref) {
+  const int n = int(state.range(0));
+  const Field x = random_field(n, 0, 0, 1, 6), g0 = random_field(n, 0, 0, 1, 7);
+  Field g(n, 0);
+  AndersonMixer mixer(3);
+  AndersonMixerRef mixer_ref(3);
+  int step = 0;
+  // Each mix sees another G (a step of a slowly converging map), so that the columns differ.
+  auto next_g = [&] {
+    const double scale = 1.0 + 1e-3 * (++step % 5);
+    for_each_cell(g, [&](int i, int j, int k) { g(i, j, k) = x(i, j, k) + scale * g0(i, j, k); });
+  };
+  for (int warm = 0; warm < 4; ++warm) {  // fills the history's columns
+    next_g();
+    ref ? mixer_ref.mix(x, g) : mixer.mix(x, g);
+  }
+  for (auto _ : state) {
+    state.PauseTiming();
+    next_g();
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(ref ? mixer_ref.mix(x, g) : mixer.mix(x, g));
+  }
+  set_bytes(state, n, 72);
+}
+
+// A periodic halo exchange of a field with one ghost layer (the V-cycle's levels) and with two
+// (phi): copies the six faces, about 6 (n + 2g)^2 g doubles; the x faces are runs of g per row.
+void BM_ExchangeHalo(benchmark::State& state) {
+  const int n = int(state.range(0)), ghost = int(state.range(1));
+  Field f = random_field(n, ghost, 0, 1, 8);
+  for (auto _ : state) f.exchange_halo();
+}
+
 constexpr auto kMs = benchmark::kMillisecond;
 BENCHMARK_CAPTURE(BM_StepMeasures, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK_CAPTURE(BM_StepMeasures, ref, true)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
@@ -118,6 +156,9 @@ BENCHMARK_CAPTURE(BM_CopyInteriorPlus, ref, true)->Arg(128)->Arg(256)->UseRealTi
 BENCHMARK(BM_SharpVolumeFraction)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_EquilibriumSpread)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
 BENCHMARK(BM_Energy)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_AndersonMix, fused, false)->Arg(128)->Arg(256)->UseRealTime()->Unit(kMs);
+BENCHMARK_CAPTURE(BM_AndersonMix, ref, true)->Arg(128)->UseRealTime()->Unit(kMs);
+BENCHMARK(BM_ExchangeHalo)->Args({64, 1})->Args({128, 1})->Args({128, 2})->Unit(kMs);
 
 }  // namespace
 }  // namespace cmcsurf

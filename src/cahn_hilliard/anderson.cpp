@@ -53,6 +53,119 @@ bool solve_normal_equations(std::vector<double> a, std::vector<double> b, int m,
   return true;
 }
 
+// The mixer's per-cell arrays of one mix: the step's x and G (interiors) and the float
+// history, x fastest.
+struct MixRows {
+  const Field& x;
+  Field& g;
+  float* prev_c;
+  float* prev_f;
+  float* dg_new;
+  float* df_new;
+};
+
+// The mix's first pass with C columns (0: no new difference): F = G - x, the new differences,
+// and into sums |F|^2 (0), dF_c . dF_new (1 + c), dF_c . F (1 + kMaxDepth + c) and the sum of
+// the new dG's float rounding (last). G_k = x + c_k, so dG = G - G_k = F - c_k. Each row's
+// differences are formed in a vectorised loop; the sums then add the cells in order (each
+// thread's sums in the cells' order, as one array reduction over the cells did), so that the
+// mix has the same bits as that loop.
+template <int C>
+void mix_sums(const MixRows& a, const float* const* cols, double* sums) {
+  constexpr int kSums = 2 * kMaxDepth + 2;
+  const int nx = a.g.nx(), ny = a.g.ny(), nz = a.g.nz();
+  std::vector<double> fs(std::size_t(nx) * 3);  // a row's F, dF_new and dG rounding
+#pragma omp parallel reduction(+ : sums[:kSums]) if (a.g.n() >= kParallelMinN) firstprivate(fs)
+  {
+    double s_ff = 0.0, s_round = 0.0, s_dd[C + 1] = {}, s_df[C + 1] = {};
+    double* f_row = fs.data();
+    double* d_row = f_row + nx;
+    double* r_row = d_row + nx;
+#pragma omp for schedule(static)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
+        const double* xr = &a.x(0, j, k);
+        const double* gr = &a.g(0, j, k);
+        const std::size_t row = (std::size_t(k) * ny + j) * nx;
+        float* pc = a.prev_c + row;
+        float* pf = a.prev_f + row;
+        float* dfn = a.df_new + row;
+        float* dgn = a.dg_new + row;
+#pragma omp simd
+        for (int i = 0; i < nx; ++i) {
+          const double f = gr[i] - xr[i];
+          f_row[i] = f;
+          if constexpr (C > 0) {
+            dfn[i] = float(f - double(pf[i]));
+            const double dg = f - double(pc[i]);
+            dgn[i] = float(dg);
+            r_row[i] = double(dgn[i]) - dg;
+            d_row[i] = dfn[i];
+          }
+          pf[i] = float(f);
+          pc[i] = 0.0f;  // unless the mix changes g
+        }
+        for (int i = 0; i < nx; ++i) {
+          const double f = f_row[i];
+          s_ff += f * f;
+          if constexpr (C > 0) {
+            s_round += r_row[i];
+            const double d = d_row[i];
+            for (int c = 0; c < C; ++c) {
+              const double col = cols[c][row + i];
+              s_dd[c] += col * d;
+              s_df[c] += col * f;
+            }
+          }
+        }
+      }
+    sums[0] += s_ff;
+    for (int c = 0; c < C; ++c) {
+      sums[1 + c] += s_dd[c];
+      sums[1 + kMaxDepth + c] += s_df[c];
+    }
+    sums[kSums - 1] += s_round;
+  }
+}
+
+// The mix's second pass with C columns: g -= sum_c gamma_c dG_c - shift, and c = G - x' (the
+// correction, in float) into prev_c; returns the sum of c's float rounding, added in the
+// cells' order after a vectorised loop over each row, as mix_sums adds.
+template <int C>
+double mix_apply(const MixRows& a, const float* const* gcols, const double* gamma_in,
+                 double shift) {
+  const int nx = a.g.nx(), ny = a.g.ny(), nz = a.g.nz();
+  double gamma[C];
+  for (int c = 0; c < C; ++c) gamma[c] = gamma_in[c];
+  std::vector<double> rs(static_cast<std::size_t>(nx));  // a row's rounding of c
+  double c_rounding = 0.0;
+#pragma omp parallel reduction(+ : c_rounding) if (a.g.n() >= kParallelMinN) firstprivate(rs)
+  {
+    double sum = 0.0;
+    double* r_row = rs.data();
+#pragma omp for schedule(static)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j) {
+        double* gr = &a.g(0, j, k);
+        const std::size_t row = (std::size_t(k) * ny + j) * nx;
+        float* pc = a.prev_c + row;
+#pragma omp simd
+        for (int i = 0; i < nx; ++i) {
+          double s = 0.0;
+          for (int c = 0; c < C; ++c) s += gamma[c] * double(gcols[c][row + i]);
+          const double unmixed = gr[i];
+          gr[i] -= s - shift;
+          const double correction = unmixed - gr[i];
+          pc[i] = float(correction);
+          r_row[i] = double(pc[i]) - correction;
+        }
+        for (int i = 0; i < nx; ++i) sum += r_row[i];
+      }
+    c_rounding += sum;
+  }
+  return c_rounding;
+}
+
 }  // namespace
 
 std::vector<int> AndersonState::column_slots() const {
@@ -153,7 +266,6 @@ void AndersonMixer::reset() {
 
 int AndersonMixer::mix(const Field& x, Field& g) {
   CMCSURF_CHECK(x.size() == g.size());
-  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   const std::size_t cells = g.interior_size();
   if (prev_c_.size() != cells) {
     prev_c_.assign(cells, 0.0f);
@@ -167,46 +279,29 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   const bool add_column = have_prev_;
   const int slot = add_column ? (newest_ + 1) % depth_ : 0;
   const int columns = add_column ? std::min(columns_ + 1, depth_) : 0;
+  constexpr int kSums = 2 * kMaxDepth + 2;
+  constexpr int kDgSum = kSums - 1;
   // Ring slots of the columns after this step's, the new one last.
   int order[kMaxDepth];
   for (int c = 0; c < columns; ++c) order[c] = (slot - columns + 1 + c + depth_) % depth_;
 
   // One pass: F = G - x, the new differences, |F|^2, dF_j . dF_new, dF_j . F and the sum of
-  // the new dG's float rounding. G_k = x + c_k, so dG = G - G_k = F - c_k.
-  constexpr int kSums = 2 * kMaxDepth + 2;
-  constexpr int kDgSum = kSums - 1;
+  // the new dG's float rounding (mix_sums).
   double sums[kSums] = {};
-  float* dgn = dg_[slot].data();
-  float* dfn = df_[slot].data();
   const float* cols[kMaxDepth];
   for (int c = 0; c < columns; ++c) cols[c] = df_[order[c]].data();
-#pragma omp parallel for schedule(static) reduction(+ : sums[:kSums]) if (g.n() >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      const double* xr = &x(0, j, k);
-      const double* gr = &g(0, j, k);
-      const std::size_t row = (std::size_t(k) * ny + j) * nx;
-      float* pc = prev_c_.data() + row;
-      float* pf = prev_f_.data() + row;
-      for (int i = 0; i < nx; ++i) {
-        const double f = gr[i] - xr[i];
-        sums[0] += f * f;
-        if (add_column) {
-          dfn[row + i] = float(f - double(pf[i]));
-          const double dg = f - double(pc[i]);
-          dgn[row + i] = float(dg);
-          sums[kDgSum] += double(dgn[row + i]) - dg;
-          const double d = dfn[row + i];
-          for (int c = 0; c < columns; ++c) {
-            const double col = cols[c][row + i];
-            sums[1 + c] += col * d;
-            sums[1 + kMaxDepth + c] += col * f;
-          }
-        }
-        pf[i] = float(f);
-        pc[i] = 0.0f;  // unless the mix below changes g
-      }
-    }
+  const MixRows rows{x, g, prev_c_.data(), prev_f_.data(), dg_[slot].data(), df_[slot].data()};
+  switch (columns) {
+    case 0: mix_sums<0>(rows, cols, sums); break;
+    case 1: mix_sums<1>(rows, cols, sums); break;
+    case 2: mix_sums<2>(rows, cols, sums); break;
+    case 3: mix_sums<3>(rows, cols, sums); break;
+    case 4: mix_sums<4>(rows, cols, sums); break;
+    case 5: mix_sums<5>(rows, cols, sums); break;
+    case 6: mix_sums<6>(rows, cols, sums); break;
+    case 7: mix_sums<7>(rows, cols, sums); break;
+    default: mix_sums<8>(rows, cols, sums); break;
+  }
   g.sum_over_ranks(sums, kSums);
   const double residual = std::sqrt(sums[0] / g.global_cells());
   const double previous = last_residual_;
@@ -246,22 +341,16 @@ int AndersonMixer::mix(const Field& x, Field& g) {
   }
   // The mix, and c = G - x' (its float rounding summed) for the next difference.
   double c_rounding = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : c_rounding) if (g.n() >= kParallelMinN)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      double* gr = &g(0, j, k);
-      const std::size_t row = (std::size_t(k) * ny + j) * nx;
-      float* pc = prev_c_.data() + row;
-      for (int i = 0; i < nx; ++i) {
-        double s = 0.0;
-        for (int c = 0; c < columns; ++c) s += gamma[c] * double(gcols[c][row + i]);
-        const double unmixed = gr[i];
-        gr[i] -= s - shift;
-        const double correction = unmixed - gr[i];
-        pc[i] = float(correction);
-        c_rounding += double(pc[i]) - correction;
-      }
-    }
+  switch (columns) {
+    case 1: c_rounding = mix_apply<1>(rows, gcols, gamma.data(), shift); break;
+    case 2: c_rounding = mix_apply<2>(rows, gcols, gamma.data(), shift); break;
+    case 3: c_rounding = mix_apply<3>(rows, gcols, gamma.data(), shift); break;
+    case 4: c_rounding = mix_apply<4>(rows, gcols, gamma.data(), shift); break;
+    case 5: c_rounding = mix_apply<5>(rows, gcols, gamma.data(), shift); break;
+    case 6: c_rounding = mix_apply<6>(rows, gcols, gamma.data(), shift); break;
+    case 7: c_rounding = mix_apply<7>(rows, gcols, gamma.data(), shift); break;
+    default: c_rounding = mix_apply<8>(rows, gcols, gamma.data(), shift); break;
+  }
   prev_c_mean_ = g.sum_over_ranks(c_rounding) / g.global_cells();
   return columns;
 }

@@ -27,6 +27,8 @@ TEST(Grid, HaloIsPeriodicWrapWithOneGhost) {
 TEST(Grid, HaloIsPeriodicWrapWithTwoGhostsAndSmallN) {
   expect_periodic_halo(testing::random_field(6, 2, -1, 1, 4));
   expect_periodic_halo(testing::random_field(2, 2, -1, 1, 5));  // ghost as wide as the grid
+  // Rows of four (y and z faces of 2^3 with one ghost) take the short-run loop, as x faces do.
+  expect_periodic_halo(testing::random_field(2, 1, -1, 1, 8));
 }
 
 TEST(Grid, PlanHasSixSlabsInAxisOrder) {

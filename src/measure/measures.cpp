@@ -1,6 +1,7 @@
 #include "measure/measures.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -50,28 +51,29 @@ double sum_cells(const Field& phi, Term term) {
   return phi.sum_over_ranks(sum);
 }
 
-// Two sums at once (weighted averages): term(p, &a, &b) adds to a and b.
+// Three sums at once (weighted averages and spreads): term(p, &a, &b, &c) adds to a, b and c.
 template <class Term>
-std::pair<double, double> sum_cells2(const Field& phi, Term term) {
+std::array<double, 3> sum_cells3(const Field& phi, Term term) {
   const int nx = phi.nx(), ny = phi.ny(), nz = phi.nz();
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double* origin = phi.data() + phi.index(0, 0, 0);
-  double sum_a = 0.0, sum_b = 0.0;
-#pragma omp parallel for reduction(+ : sum_a, sum_b) schedule(static)
+  double sum_a = 0.0, sum_b = 0.0, sum_c = 0.0;
+#pragma omp parallel for reduction(+ : sum_a, sum_b, sum_c) schedule(static)
   for (int k = 0; k < nz; ++k) {
     for (int j = 0; j < ny; ++j) {
       const double* row = origin + k * sz + j * sy;
       const Term local = term;  // as in sum_cells
-      double a = 0.0, b = 0.0;
-#pragma omp simd reduction(+ : a, b)
-      for (int i = 0; i < nx; ++i) local(row + i, a, b);
+      double a = 0.0, b = 0.0, c = 0.0;
+#pragma omp simd reduction(+ : a, b, c)
+      for (int i = 0; i < nx; ++i) local(row + i, a, b, c);
       sum_a += a;
       sum_b += b;
+      sum_c += c;
     }
   }
-  double sums[2] = {sum_a, sum_b};
-  phi.sum_over_ranks(sums, 2);
-  return {sums[0], sums[1]};
+  std::array<double, 3> sums = {sum_a, sum_b, sum_c};
+  phi.sum_over_ranks(sums.data(), 3);
+  return sums;
 }
 
 // Unit vertex normals n = m/|m| on one plane of vertices (Appendix B). Vertex (i, j, kv)
@@ -302,28 +304,33 @@ double mean_curvature_ref(const Field& phi) {
 namespace {
 
 // The sums of nu |grad_d phi|^2 and |grad_d phi|^2 over the cells: the weighted mean of nu that
-// mean_curvature_mu reports and equilibrium_residual measures the spread around.
-std::pair<double, double> weighted_nu_sums(const Field& phi, double epsilon) {
+// mean_curvature_mu reports and equilibrium_residual measures the spread around, and the
+// spread's sum about `shift`.
+WeightedNuSums weighted_nu_sums(const Field& phi, double epsilon, double shift = 0.0) {
   CMCSURF_DCHECK(halo_is_current(phi));
   const std::ptrdiff_t sy = phi.stride_y(), sz = phi.stride_z();
   const double h = phi.h();
   const double inv_h2 = 1.0 / (h * h);
   const double eps2 = epsilon * epsilon;
-  return sum_cells2(phi, [=](const double* p, double& nw, double& w) {
-    const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
-    const double g = grad4_sq_scaled(p, sy, sz);
-    nw += nu * g;
-    w += g;
-  });
+  const auto [nu_w, w, shifted_w] =
+      sum_cells3(phi, [=](const double* p, double& nw, double& sw, double& dw) {
+        const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
+        const double g = grad4_sq_scaled(p, sy, sz);
+        nw += nu * g;
+        sw += g;
+        const double d = nu - shift;
+        dw += d * d * g;
+      });
+  return WeightedNuSums{nu_w, w, shift, shifted_w};
 }
 
 }  // namespace
 
 double mean_curvature_mu(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "mean_curvature_mu");
-  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
-  if (sum_w == 0.0) return 0.0;
-  return 3.0 * std::numbers::sqrt2 / epsilon * sum_nw / sum_w;  // H = mu/2
+  const WeightedNuSums sums = weighted_nu_sums(phi, epsilon);
+  if (sums.w == 0.0) return 0.0;
+  return 3.0 * std::numbers::sqrt2 / epsilon * sums.nu_w / sums.w;  // H = mu/2
 }
 
 double mean_curvature_mu_ref(const Field& phi, double epsilon) {
@@ -349,8 +356,21 @@ double mean_curvature_mu_ref(const Field& phi, double epsilon) {
 double equilibrium_residual(const Field& phi, double epsilon) {
   require_ghost(phi, 2, "equilibrium_residual");
   // Two passes, the mean first: the spread is small beside nu itself.
-  const auto [sum_nw, sum_w] = weighted_nu_sums(phi, epsilon);
-  return equilibrium_residual(phi, epsilon, WeightedNuSums{sum_nw, sum_w});
+  return equilibrium_residual(phi, epsilon, weighted_nu_sums(phi, epsilon));
+}
+
+double equilibrium_residual_one_pass(const WeightedNuSums& sums, double epsilon) {
+  if (sums.w == 0.0) return 0.0;
+  const double offset = sums.nu_w / sums.w - sums.shift;  // mean - shift
+  const double variance = sums.shifted_w / sums.w - offset * offset;
+  if (!(offset * offset <= variance)) return -1.0;
+  return 3.0 * std::numbers::sqrt2 / epsilon * std::sqrt(variance);
+}
+
+bool equilibrium_met(const Field& phi, double epsilon, const WeightedNuSums& sums, double tol) {
+  const double r = equilibrium_residual_one_pass(sums, epsilon);
+  if (r >= 0.0 && std::abs(r - tol) > kOnePassMargin * tol) return r <= tol;
+  return equilibrium_residual(phi, epsilon, sums) <= tol;
 }
 
 double equilibrium_residual(const Field& phi, double epsilon, const WeightedNuSums& sums) {
@@ -418,7 +438,8 @@ double energy_ref(const Field& phi, double epsilon) {
 // its own function does. area and energy add rows into a plane sum as sum_cells
 // does, l2_diff and weighted_nu_sums add rows straight into the thread's sum, and mass (mean)
 // runs serially below kParallelMinN: its plane sums are then added in order after the loop.
-StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums) {
+StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums,
+                           double nu_shift) {
   require_ghost(phi, 2, "step_measures");
   CMCSURF_DCHECK(halo_is_current(phi));
   if (before.n() != phi.n() || before.size() != phi.size())
@@ -433,9 +454,9 @@ StepMeasures step_measures(const Field& phi, const Field& before, double epsilon
   const bool mass_parallel = nx >= kParallelMinN;
   std::vector<double> mass_planes(mass_parallel ? 0 : nz);
   double s_area = 0.0, s_energy = 0.0, s_mass = 0.0, s_diff = 0.0, s_nw = 0.0, s_w = 0.0;
-  double s_sixths = 0.0;
+  double s_sixths = 0.0, s_dw = 0.0;
   FirstException errors;
-#pragma omp parallel reduction(+ : s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths)
+#pragma omp parallel reduction(+ : s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths, s_dw)
   {
     std::optional<SharpVolumeSweep> sweep;  // the sharp volume fraction's planes (a thread's)
     const bool allocated = errors.run([&] { sweep.emplace(phi); });
@@ -464,17 +485,20 @@ StepMeasures step_measures(const Field& phi, const Field& before, double epsilon
         plane_mass += m;
         s_diff += d;
         if (nu_sums) {
-          double nw = 0.0, w = 0.0;
-#pragma omp simd reduction(+ : nw, w)
+          double nw = 0.0, w = 0.0, dw = 0.0;
+#pragma omp simd reduction(+ : nw, w, dw)
           for (int i = 0; i < nx; ++i) {
             const double* p = row + i;
             const double nu = double_well_prime(p[0]) - eps2 * laplacian(p, sy, sz, inv_h2);
             const double g = grad4_sq_scaled(p, sy, sz);
             nw += nu * g;
             w += g;
+            const double dn = nu - nu_shift;
+            dw += dn * dn * g;
           }
           s_nw += nw;
           s_w += w;
+          s_dw += dw;
         }
       }
       s_area += plane_area;
@@ -488,30 +512,27 @@ StepMeasures step_measures(const Field& phi, const Field& before, double epsilon
   }
   errors.rethrow();
   for (const double m : mass_planes) s_mass += m;
-  double sums[7] = {s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths};
-  phi.sum_over_ranks(sums, 7);
+  double sums[8] = {s_area, s_energy, s_mass, s_diff, s_nw, s_w, s_sixths, s_dw};
+  phi.sum_over_ranks(sums, 8);
   StepMeasures r;
   r.area = kSixSqrt2 * epsilon * sums[0] / (144.0 * h * h) * h * h * h;
   r.energy = kSixSqrt2 * sums[1] * h * h * h;
   r.mass = sums[2] / phi.global_cells();
   r.d_phi = std::sqrt(sums[3] / phi.global_cells());
-  if (nu_sums) r.nu_sums = WeightedNuSums{sums[4], sums[5]};
+  if (nu_sums) r.nu_sums = WeightedNuSums{sums[4], sums[5], nu_shift, sums[7]};
   r.volume_fraction = sums[6] / (6.0 * phi.global_cells());
   return r;
 }
 
 StepMeasures step_measures_ref(const Field& phi, const Field& before, double epsilon,
-                               bool nu_sums) {
+                               bool nu_sums, double nu_shift) {
   StepMeasures r;
   r.area = area(phi, epsilon);
   r.energy = energy(phi, epsilon);
   r.mass = mass(phi);
   r.d_phi = l2_diff(phi, before);
   r.volume_fraction = sharp_volume_fraction(phi);
-  if (nu_sums) {
-    const auto [nw, w] = weighted_nu_sums(phi, epsilon);
-    r.nu_sums = WeightedNuSums{nw, w};
-  }
+  if (nu_sums) r.nu_sums = weighted_nu_sums(phi, epsilon, nu_shift);
   return r;
 }
 

@@ -68,13 +68,27 @@ double equilibrium_residual(const Field& phi, double epsilon);
 double equilibrium_residual_ref(const Field& phi, double epsilon);  // plain loop twin
 
 // The sums of nu |grad_d phi|^2 and of |grad_d phi|^2 over the grid, from which
-// mean_curvature_mu and equilibrium_residual start.
+// mean_curvature_mu and equilibrium_residual start, and of (nu - shift)^2 |grad_d phi|^2 about a
+// shift given beforehand (an estimate of their weighted mean: the last step's), from which
+// the spread follows in the same pass (equilibrium_met).
 struct WeightedNuSums {
   double nu_w = 0.0;
   double w = 0.0;
+  double shift = 0.0;
+  double shifted_w = 0.0;  // sum of (nu - shift)^2 |grad_d phi|^2
 };
 // equilibrium_residual's second pass, from sums a fused pass already took (step_measures).
 double equilibrium_residual(const Field& phi, double epsilon, const WeightedNuSums& sums);
+// equilibrium_residual from the shifted sums alone: the weighted variance
+// shifted_w / w - (mean - shift)^2 in the units of H, or -1 where the shift lies more than one
+// spread from the mean (the subtraction would then lose more than a bit).
+double equilibrium_residual_one_pass(const WeightedNuSums& sums, double epsilon);
+// Whether equilibrium_residual(phi, epsilon, sums) <= tol, mostly without its second pass: the
+// one-pass value decides where it lies further than kOnePassMargin (relative) from tol, which
+// is beyond its rounding difference from the two-pass value; otherwise the second pass runs.
+// So the stop rule takes the same decisions, and the steps the same bits, as with two passes.
+bool equilibrium_met(const Field& phi, double epsilon, const WeightedNuSums& sums, double tol);
+constexpr double kOnePassMargin = 1e-6;
 
 // What the time-step history records of each step, and the stop rule's first sums.
 struct StepMeasures {
@@ -86,11 +100,13 @@ struct StepMeasures {
   WeightedNuSums nu_sums;  // zero unless asked for
 };
 // area, energy, mass, l2_diff(phi, before), sharp_volume_fraction and, with nu_sums, the
-// weighted sums of nu, in one pass over phi instead of six: each value has the same bits as
-// its own function's (each sum keeps its own order of additions). Needs ghost >= 2 and a
-// current halo; before: interior.
-StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums);
+// weighted sums of nu (WeightedNuSums), in one pass over phi instead of six: each value has the
+// same bits as its own function's (each sum keeps its own order of additions). Needs ghost >= 2
+// and a current halo; before: interior.
+// nu_shift: the shift of nu_sums' shifted sum.
+StepMeasures step_measures(const Field& phi, const Field& before, double epsilon, bool nu_sums,
+                           double nu_shift = 0.0);
 StepMeasures step_measures_ref(const Field& phi, const Field& before, double epsilon,
-                               bool nu_sums);  // the separate functions
+                               bool nu_sums, double nu_shift = 0.0);  // the separate functions
 
 }  // namespace cmcsurf

@@ -122,8 +122,8 @@ TEST(Measures, StepMeasuresMatchTheSeparateFunctionsBitForBit) {
       const Field other = random_field(n, 4, 0.05);
       for_each_cell(phi, [&](int i, int j, int k) { before(i, j, k) = other(i, j, k); });
       for (const bool nu_sums : {false, true}) {
-        const StepMeasures m = step_measures(phi, before, 0.03, nu_sums);
-        const StepMeasures r = step_measures_ref(phi, before, 0.03, nu_sums);
+        const StepMeasures m = step_measures(phi, before, 0.03, nu_sums, 0.01);
+        const StepMeasures r = step_measures_ref(phi, before, 0.03, nu_sums, 0.01);
         const std::string what = "n " + std::to_string(n) + " threads " +
                                  std::to_string(threads) + " nu_sums " + std::to_string(nu_sums);
         EXPECT_GT(r.d_phi, 0.01) << what;
@@ -136,6 +136,7 @@ TEST(Measures, StepMeasuresMatchTheSeparateFunctionsBitForBit) {
         EXPECT_LT(r.volume_fraction, 0.9) << what;
         EXPECT_EQ(m.nu_sums.nu_w, r.nu_sums.nu_w) << what;
         EXPECT_EQ(m.nu_sums.w, r.nu_sums.w) << what;
+        EXPECT_EQ(m.nu_sums.shifted_w, r.nu_sums.shifted_w) << what;
         EXPECT_EQ(r.nu_sums.w > 0.0, nu_sums) << what;
         if (nu_sums) {
           EXPECT_EQ(equilibrium_residual(phi, 0.03, m.nu_sums), equilibrium_residual(phi, 0.03))
@@ -145,6 +146,37 @@ TEST(Measures, StepMeasuresMatchTheSeparateFunctionsBitForBit) {
     }
   }
   omp_set_num_threads(saved);
+}
+
+// The stop rule's one-pass spread (about a shift: the last step's mean) against the two-pass
+// equilibrium_residual: on a noisy field (spread ~ nu) and a tanh sphere (spread well below the
+// mean nu), with the shift at the mean and half a spread away, the two agree to 1e-12
+// relative (the shifted variance loses at most a factor 2 to the subtraction, and its sums
+// are in double over < 1e5 cells); three spreads away the one-pass value is refused (-1).
+// equilibrium_met decides as the two-pass value does, at tolerances close to it too (where
+// it runs the second pass).
+TEST(Measures, EquilibriumOnePassMatchesTwoPasses) {
+  const double eps = 0.03;
+  for (const Field& phi : {random_field(kParallelMinN + 5, 7, 0.05), tanh_sphere(40, 0.3, eps)}) {
+    const StepMeasures first = step_measures(phi, phi, eps, true);
+    const double two_pass = equilibrium_residual(phi, eps);
+    ASSERT_GT(two_pass, 0.0);
+    const double mean = first.nu_sums.nu_w / first.nu_sums.w;
+    const double spread = two_pass * eps / (3.0 * kSqrt2);  // of nu
+    for (const double away : {0.0, 0.5, 3.0}) {
+      const WeightedNuSums sums = step_measures(phi, phi, eps, true, mean + away * spread).nu_sums;
+      const double one_pass = equilibrium_residual_one_pass(sums, eps);
+      const std::string what = "n " + std::to_string(phi.n()) + " away " + std::to_string(away);
+      if (away > 1.0) {
+        EXPECT_EQ(one_pass, -1.0) << what;
+      } else {
+        EXPECT_NEAR(one_pass, two_pass, 1e-12 * two_pass) << what;
+      }
+      for (const double f : {0.1, 1.0 - 1e-3, 1.0 - 1e-8, 1.0 + 1e-8, 1.0 + 1e-3, 10.0})
+        EXPECT_EQ(equilibrium_met(phi, eps, sums, f * two_pass), two_pass <= f * two_pass)
+            << what << " tol factor " << f;
+    }
+  }
 }
 
 TEST(Measures, EnergyMatchesReferenceOnRandomField) {

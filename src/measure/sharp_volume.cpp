@@ -225,7 +225,10 @@ void SharpVolumeSweep::add_plane(int k, double& sixths) {
     if (!any) continue;
     for (int i = 0; i < nx; ++i) {
       if (cut[i] == 1) {
-        sixths += 6.0;
+        int end = i + 1;
+        while (end < nx && cut[end] == 1) ++end;
+        sixths = add_sixes(sixths, end - i);
+        i = end - 1;
       } else if (cut[i] == 2) {
         const std::ptrdiff_t at = at0 + i;
         double v[8];

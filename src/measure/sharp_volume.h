@@ -16,6 +16,7 @@
 // (r = 0.3): error 1.5e-4 -> 2e-5 at 64^3, 3.9e-5 -> 2e-6 at 128^3 (docs/volume.md).
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "grid/field.h"
@@ -27,6 +28,17 @@ namespace cmcsurf {
 // non-positive vertex: 1 minus the same product from it; two and two: the wedge
 // t11 t12 + t12 t21 (1 - t11) + t21 t22 (1 - t12) (three tetrahedra of the cut prism).
 double tet_fraction_above(const double g[4]);
+
+// sum + 6 + 6 + ... (count times, in that order), as the sweeps add a run of inside dual cells.
+// Where sum and the total share a binade, every partial sum lies in it too and 6 is a multiple
+// of its spacing (sum < 2^53), so each addition is exact and one addition of 6 count gives the
+// same bits; where they do not, the additions run one by one.
+inline double add_sixes(double sum, int count) {
+  const double total = sum + 6.0 * count;
+  if (sum > 0.0 && std::ilogb(sum) == std::ilogb(total)) return total;
+  for (int c = 0; c < count; ++c) sum += 6.0;
+  return sum;
+}
 
 // Volume fraction of {phi_h > level} for the piecewise-linear interpolant of phi. Reads the
 // interior and one ghost layer (the caller keeps the halo current).

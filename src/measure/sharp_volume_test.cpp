@@ -69,6 +69,26 @@ TEST(SharpVolume, TetFractionMatchesQuadrature) {
 // estimator), which add the same values in the same per-thread order: bit for bit, at 1 and 2
 // threads, on noise (cut cells everywhere), a gyroid and a half-filled slab (whole rows of
 // inside and outside cells), odd sizes included (uneven slabs).
+// A run of inside cells added at once has the bits of the additions one by one, also where
+// the run crosses a power of two from a sum with its lowest bit set (there one addition of
+// 6 count would round differently: the second loop finds such cases).
+TEST(SharpVolume, RunOfSixesAddsAsOneByOne) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int differ_at_once = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int count = 1 + int(rng() % 40);
+    // Just below a power of two (2^3 .. 2^40), with random low bits, or anywhere.
+    const double p2 = std::ldexp(1.0, 3 + int(rng() % 38));
+    const double sum = trial % 2 ? p2 - 6.0 * count * unit(rng) : p2 * (1.0 + unit(rng));
+    double one_by_one = sum;
+    for (int c = 0; c < count; ++c) one_by_one += 6.0;
+    EXPECT_EQ(add_sixes(sum, count), one_by_one) << sum << " + 6 x " << count;
+    if (sum + 6.0 * count != one_by_one) ++differ_at_once;
+  }
+  EXPECT_GT(differ_at_once, 50);  // where adding at once would change bits (96 with this seed)
+}
+
 TEST(SharpVolume, OneSweepMatchesTwoPassesBitForBit) {
   const int saved_threads = omp_get_max_threads();
   for (const int threads : {1, 2}) {
