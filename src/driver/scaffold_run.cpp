@@ -25,6 +25,7 @@
 #include "mesh/mesh_size.h"
 #include "mesh/scaffold_part.h"
 #include "mesh/shape.h"
+#include "parallel/memory.h"
 #include "pipeline/member_topology.h"
 #include "report/part_page.h"
 #include "pipeline/properties_stage.h"
@@ -38,6 +39,16 @@ namespace {
 
 // About 5 GB of lattice (value, label, mark) before the mesh.
 constexpr double kMaxPartNodes = 5.4e8;
+// The part's peak memory per lattice node, mostly its mesh before and during the decimation
+// (about 250 bytes per undecimated triangle). Measured on G at porosity 0.7, `/usr/bin/time`
+// peaks between 64^3 and 160^3 nodes: a sheet (two walls, 1.8 triangles a node) 345-440
+// bytes a node, a network (0.95 a node) 224; plus about 150 MB that does not grow. A part
+// whose estimate is over the memory available is refused before any work: the default part
+// at --grid 128 (640^3 nodes, about 100 GB by this estimate) ran 600 s into its decimation
+// at 24 GB before it was stopped.
+constexpr double kPartBytesPerNodeSheet = 400.0;
+constexpr double kPartBytesPerNodeNetwork = 225.0;
+constexpr double kPartFixedBytes = 150e6;
 // A triangle budget: more than a lattice of kMaxPartNodes could give is no budget.
 constexpr long kMaxTriangles = 4'000'000'000L;
 
@@ -744,6 +755,19 @@ ScaffoldRun make_scaffold(const ScaffoldOptions& o, RunParams params, const RunC
           "{}: the box is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {}; accepted: "
           "at most {:.3g} (about 9 bytes each, plus the mesh): a smaller box or --grid",
           shape ? "--shape" : "--size", nodes, h, d.units, kMaxPartNodes);
+    const bool sheet = d.solid == SolidKind::kSheet;
+    const double need =
+        kPartFixedBytes + nodes * (sheet ? kPartBytesPerNodeSheet : kPartBytesPerNodeNetwork);
+    const MemoryHeadroom room = memory_headroom();
+    if (need > double(room.bytes))
+      return fmt::format(
+          "{}: the part is {:.3g} lattice nodes at --cell-size / --grid = {:.4g} {} and its "
+          "mesh needs about {} of memory (about {:.0f} bytes a node for a {}), but {} is "
+          "available ({}); accepted: a part that fits: a smaller box, a coarser --grid or a "
+          "larger --resolution",
+          shape ? "--shape" : "--size", nodes, h, d.units, format_bytes(std::uint64_t(need)),
+          sheet ? kPartBytesPerNodeSheet : kPartBytesPerNodeNetwork,
+          sheet ? "sheet" : "network", format_bytes(room.bytes), room.source);
     return {};
   };
   if (const std::string why = box_problem(); !why.empty()) throw OptionError(why);
