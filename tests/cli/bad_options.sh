@@ -44,7 +44,8 @@ expect_usage --surface     sweep --surface G,G --volume-fractions 0.5
 expect_usage --volume-fractions sweep --surface G --volume-fractions 0.5,0.5
 # A grid the memory cannot hold is refused before the solve (an address-space limit of 1 GB:
 # --grid 2048 needs about 1 TB), naming the figures and a grid that fits.
-(ulimit -v 1000000 && check_usage out --grid run --grid 2048)
+# (A failure inside the subshell sets its own `fail`: its exit status carries it out.)
+(ulimit -v 1000000 && check_usage out --grid run --grid 2048; exit "$fail") || fail=1
 # --fast on a surface without a nodal formula takes no coarse-to-fine levels (it did not apply
 # them either, but reported them).
 "$bin" run --surface noise --grid 64 --fast --max-steps 2 --quiet --no-preview --no-report \
