@@ -173,6 +173,7 @@ TEST(RunReport, HistoryRowsAndStagesReadBackExactly) {
   r.vcycles = 3;
   r.residual = 1.951626e-01;
   r.elapsed = 0.25;
+  r.equilibrium_residual = 2.3131822319629475e-04;
   EXPECT_EQ(stage_text(r), "prerelax@16@32");
   StepRecord back;
   for (const HistoryColumnInfo& c : history_column_table()) {
@@ -184,6 +185,15 @@ TEST(RunReport, HistoryRowsAndStagesReadBackExactly) {
     EXPECT_EQ(history_value(back, c.id), history_value(r, c.id)) << c.name;
   EXPECT_EQ(back.coarse_grids, r.coarse_grids);
   EXPECT_EQ(back.stage, RunStage::kPrerelax);
+  // A step the stop rule did not measure: NaN, which JSON writes as null, reads back as NaN.
+  r.equilibrium_residual = std::nan("");
+  nlohmann::json unmeasured;
+  std::visit([&](const auto& x) { unmeasured = x; },
+             history_value(r, HistoryColumn::kEquilibriumResidual));
+  set_history_value(back, HistoryColumn::kEquilibriumResidual, unmeasured);
+  EXPECT_TRUE(std::isnan(back.equilibrium_residual));
+  set_history_value(back, HistoryColumn::kEquilibriumResidual, nlohmann::json());
+  EXPECT_TRUE(std::isnan(back.equilibrium_residual));
   for (const char* bad : {"relay", "relax@", "relax@x", "relax@16@", "@16", "relax@1"})
     EXPECT_THROW(set_history_value(back, HistoryColumn::kStage, bad), std::runtime_error) << bad;
   set_history_value(back, HistoryColumn::kStage, "volume");
