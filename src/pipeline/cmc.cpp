@@ -389,6 +389,7 @@ class Evolution {
           one_pass >= 0.0 ? one_pass
           : nu_sums       ? equilibrium_residual(phi, params_.epsilon, m.nu_sums)
                           : equilibrium_residual(phi, params_.epsilon);
+      residual_exact_ = one_pass < 0.0;
     }
     r.area = m.area;
     r.d_area = r.area - area_before;
@@ -464,9 +465,11 @@ class Evolution {
       bool met = params_.stop == StopRule::kArea ? std::abs(r.d_area) <= params_.tol
                                                  : r.d_phi <= params_.tol;
       if (equilibrium)  // instead of the --stop rule: the area settles before H equalises
-        met = nu_sums_valid_ ? equilibrium_met(result_.phi, params_.epsilon, last_nu_sums_,
-                                               params_.equilibrium_tol)
-                             : r.equilibrium_residual <= params_.equilibrium_tol;
+        // The two passes' value decides as it is; a one-pass one near the tolerance is
+        // checked by the two passes (equilibrium_met), so that the decisions are theirs.
+        met = residual_exact_ ? r.equilibrium_residual <= params_.equilibrium_tol
+                              : equilibrium_met(result_.phi, params_.epsilon, last_nu_sums_,
+                                                params_.equilibrium_tol);
       if (volume_rate > 0.0) {
         met = met && std::abs(r.volume_fraction - v) <= volume_rate;
         v = r.volume_fraction;
@@ -616,6 +619,7 @@ class Evolution {
   // The last step's weighted sums of nu (step_measures), valid when it took them.
   WeightedNuSums last_nu_sums_;
   bool nu_sums_valid_ = false;
+  bool residual_exact_ = true;  // the last record's equilibrium_residual is the two passes'
   // A checkpoint's mixer, until the relaxation it was taken in makes its own.
   std::optional<AndersonState> resumed_anderson_;
   bool anderson_carried_ = true;
