@@ -166,8 +166,8 @@ struct StepRecord {
   double residual = 0.0;
   double elapsed = 0.0;   // wall seconds since the run started
   // The equilibrium stop rule's residual after the step (measure/measures.h
-  // equilibrium_residual); NaN where the rule did not run (coarser grids, --paper, a
-  // pre-relaxation, steps recorded before the column existed).
+  // equilibrium_residual); NaN where the rule did not run (--paper, a pre-relaxation, the
+  // coarser grids of runs before late 2026-11-27, steps recorded before the column existed).
   double equilibrium_residual = std::numeric_limits<double>::quiet_NaN();
 };
 
