@@ -286,8 +286,8 @@ const std::vector<RunOption>& table() {
                "spread of the local H that the chemical potential still drives, in the units "
                "of H; report.json's equilibrium_residual) is at most this, instead of the --stop "
                "rule (0: off, the paper's rule; --fast uses 1e-3 at --grid 128, times "
-               "(128/N)^2 at N; the coarser grids of a coarse-to-fine run end at 4 times it "
-               "per halving, or once settled)",
+               "(128/N)^2 at N; the coarser grids of a coarse-to-fine run end at it too, or "
+               "once settled)",
        .unit = "1/unit cell",
        .scope = S::kSolver,
        .solver_group = true,

@@ -852,14 +852,13 @@ RunResult run_cmc_from_coarse(const RunParams& params, const RunContext& context
   coarse_params.mg_rtol_finest = 0.0;  // every coarser grid at mg_rtol
   if (params.equilibrium_tol > 0.0) {
     // A coarser grid only gives the finest its start, and its own equilibrium differs from the
-    // finest's by more than the tolerance (epsilon is fewer cells wide there): it ends at its
-    // own, the tolerance scaled with h^2 as fast_equilibrium_tol scales it, with the Anderson
-    // mixing that the rule brings. Ended on settling alone (the rule until late on
-    // 2026-11-27), the unmixed steps crawled: P at 0.3, 128^3, took 165 steps on its 64^3 grid
-    // against 20, and the finest grid took no fewer steps for it (docs/performance.md). The
-    // settling rule stays as a backstop.
-    const double r = double(params.grid) / coarse_params.grid;
-    coarse_params.equilibrium_tol = params.equilibrium_tol * r * r;
+    // finest's (epsilon is fewer cells wide there), but the nearer it comes to its own, the
+    // fewer steps the finest takes: each coarser grid ends on the same rule at the same
+    // tolerance, with the Anderson mixing that the rule brings. Ended on settling alone (the
+    // rule until late on 2026-11-27), the unmixed steps crawled: P at 0.3, 128^3, took 165
+    // steps on its 64^3 grid against 20, and the finest grid took no fewer steps for it; at 4
+    // times the tolerance per halving the 256^3 grid took 82 steps for P, D, G at 0.3 and 0.5
+    // against 67, one run each (docs/performance.md). The settling rule stays as a backstop.
     if (coarse_params.settle_tol == 0.0) coarse_params.settle_tol = kCoarseSettleTol;
   }
   RunResult coarse = run_cmc_stages(coarse_params, context);

@@ -26,7 +26,7 @@ fail=0
 # mode was the same to the bit); report.json's parameters gained the options added since, at their
 # defaults, by hand. The run's numbers (report.json, history.csv, run.err, run_numbers.html)
 # were written again late on 2026-11-27 by the build whose coarser grids end on their own
-# equilibrium rule (docs/method.md): 84 coarse steps instead of 89, area 3.0836526 ->
+# equilibrium rule (docs/method.md): 86 coarse steps instead of 89, area 3.0836526 ->
 # 3.0836529; the sweep (32^3, no coarser grid) kept its references.
 "$bin" run --surface G --volume-fraction 0.45 --grid 32 --epsilon 0.05 --coarse-levels 2 \
   --max-steps 12 --anderson-depth 0 --threads 1 --no-preview --out run 2>run.err ||
