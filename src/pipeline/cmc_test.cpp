@@ -376,8 +376,9 @@ TEST(Pipeline, ContinuedGridStartsAtTheLargestStep) {
 
 // A coarser grid of a run on the equilibrium rule ends at its own equilibrium, at the same
 // tolerance, with the Anderson mixing the rule brings: every step of its relaxation has its
-// residual in the history, the last below the tolerance, and the finest grid ends at it too. (Ended on settling alone, the coarse grids' unmixed steps crawled:
-// 165 steps for P at 0.3 on the 64^3 grid of a 128^3 run, against 20.)
+// residual in the history, the last below the tolerance, and the finest grid ends at it too.
+// (Ended on settling alone, the coarse grids' unmixed steps crawled: 165 steps for P at 0.3
+// on the 64^3 grid of a 128^3 run, against 20.)
 TEST(Pipeline, CoarseGridsEndOnTheirOwnEquilibrium) {
   RunParams p = gyroid_32(Constraint::kMass);
   p.coarse_levels = 1;
@@ -391,7 +392,8 @@ TEST(Pipeline, CoarseGridsEndOnTheirOwnEquilibrium) {
   for (const StepRecord& s : r.history)
     if (!s.coarse_grids.empty() && s.stage == RunStage::kRelax) coarse.push_back(s);
   ASSERT_FALSE(coarse.empty());
-  for (const StepRecord& s : coarse) EXPECT_TRUE(std::isfinite(s.equilibrium_residual)) << s.step;
+  for (const StepRecord& s : coarse)
+    EXPECT_TRUE(std::isfinite(s.equilibrium_residual)) << s.step;
   EXPECT_LE(coarse.back().equilibrium_residual, p.equilibrium_tol);
   EXPECT_EQ(r.stop_reason, "equilibrium");
   EXPECT_LE(r.final.equilibrium_residual, p.equilibrium_tol);
