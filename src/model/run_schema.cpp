@@ -177,8 +177,9 @@ const std::vector<RunOption>& table() {
        .cli = "--fast",
        .help = "Fast mode, the default (--paper turns it off): the options below marked (fast) "
                "take their fast values unless given (coarse-to-fine continuation, --mg-rtol "
-               "1e-2, --extrapolate, --dt-max-factor 8, --mg-rtol-finest 0.1, --equilibrium-tol "
-               "1e-3 (128/N)^2); the surface agrees with the paper-faithful run to about 1e-4 in "
+               "1e-2, --extrapolate, --dt-max-factor 8, --continued-dt-factor 8, "
+               "--mg-rtol-finest 0.1, --equilibrium-tol 1e-3 (128/N)^2, --anderson-depth 3); "
+               "the surface agrees with the paper-faithful run to about 1e-4 in "
                "area and is closer to the equilibrium (docs/performance.md)",
        .unit = "",
        .scope = S::kSolver,
@@ -254,17 +255,17 @@ const std::vector<RunOption>& table() {
        .fast = [](RunParams& p, bool) { p.dt_max_factor = kFastDtMaxFactor; }},
       {.key = "continued_dt_factor",
        .cli = "--continued-dt-factor",
-       .help = "With --coarse-levels: the first relaxation at epsilon of each grid continued "
-               "from a relaxed coarser one starts at dt = this times h, capped at "
-               "--dt-max-factor h, instead of ramping up from --dt-factor h (0: the ramp, the "
-               "default of both modes; 8 saved the ramp's V-cycles at 128^3 but not the steps "
-               "at 256^3, docs/performance.md)",
+       .help = "(fast) With --coarse-levels: the first relaxation at epsilon of each grid "
+               "continued from a relaxed coarser one starts at dt = this times h, capped at "
+               "--dt-max-factor h, instead of ramping up from --dt-factor h (0: the ramp; "
+               "--fast uses 8, the largest dt, since 2026-11-27's late change; 0 before)",
        .unit = "h",
        .scope = S::kSolver,
        .solver_group = true,
        .ref = RunMember<double>([](RunParams& p) -> double& { return p.continued_dt_factor; }),
        .range = {0.0, 1e6, true, true},
        .accepted = "0 (off) <= F <= 1e6",
+       .fast = [](RunParams& p, bool) { p.continued_dt_factor = kFastContinuedDtFactor; },
        .optional_in_json = true},  // absent before 2026-11-27: off
       {.key = "settle_tol",
        .cli = "--settle-tol",

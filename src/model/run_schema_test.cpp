@@ -212,7 +212,7 @@ TEST(RunSchema, DefaultsAreFastAndResolvedPaperIsTheOldRun) {
   EXPECT_EQ(fast.settle_tol, 0.0);
   EXPECT_EQ(fast.coarse_levels, 2);
   EXPECT_EQ(fast.anderson_depth, kFastAndersonDepth);
-  EXPECT_EQ(fast.continued_dt_factor, 0.0);  // the ramp (not a win at 256^3)
+  EXPECT_EQ(fast.continued_dt_factor, kFastContinuedDtFactor);  // no ramp on a continued grid
 
   RunParams paper;
   paper.paper = true;

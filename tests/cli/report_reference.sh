@@ -27,9 +27,11 @@ fail=0
 # defaults, by hand. The run's numbers (report.json, history.csv, run.err, run_numbers.html)
 # were written again late on 2026-11-27 by the build whose coarser grids end on their own
 # equilibrium rule (docs/method.md): 86 coarse steps instead of 89, area 3.0836526 ->
-# 3.0836529; the sweep (32^3, no coarser grid) kept its references.
+# 3.0836529; the sweep (32^3, no coarser grid) kept its references. --continued-dt-factor 0
+# keeps the ramp the references had before the fast mode started continued grids at dt_max.
 "$bin" run --surface G --volume-fraction 0.45 --grid 32 --epsilon 0.05 --coarse-levels 2 \
-  --max-steps 12 --anderson-depth 0 --threads 1 --no-preview --out run 2>run.err ||
+  --max-steps 12 --anderson-depth 0 --continued-dt-factor 0 --threads 1 --no-preview --out run \
+  2>run.err ||
   { echo "FAIL: the run"; cat run.err; exit 1; }
 "$bin" sweep --surface P,G --volume-fractions 0.45,0.5 --grid 32 --epsilon 0.05 --max-steps 6 \
   --anderson-depth 0 --threads 1 --no-preview --no-plot --out sweep 2>sweep.err ||

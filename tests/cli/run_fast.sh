@@ -24,7 +24,7 @@ assert pm["fast"] and pm["dt_max_factor"] == 4 and not pm["extrapolate"], pm
 assert pa["paper"] and pa["equilibrium_tol"] == 0 and a["stop_reason"] == "area"
 assert abs(pf["equilibrium_tol"] - 1e-3 * (128 / 32) ** 2) < 1e-15 and pf["settle_tol"] == 0
 assert pf["anderson_depth"] == 3 and pa["anderson_depth"] == 0, (pf, pa)
-assert pf["continued_dt_factor"] == 0 and pa["continued_dt_factor"] == 0, (pf, pa)
+assert pf["continued_dt_factor"] == 8 and pa["continued_dt_factor"] == 0, (pf, pa)
 d = json.load(open(f"{w}/default/report.json"))
 assert d["parameters"] == pf, "plain run is not the --fast run"
 assert d["area"] == f["area"]

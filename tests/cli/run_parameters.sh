@@ -4,9 +4,8 @@
 # script, key for key and in order: written by the build before the run option table
 # (model/run_schema.cpp) existed, so the table maps every option to the key and value it
 # always had (the keys added since, equilibrium_tol, paper, anderson_depth and
-# continued_dt_factor, and --fast's
-# equilibrium rule in
-# place of settle_tol were added to it by hand). Then a sweep resumed with any one
+# continued_dt_factor, --fast's equilibrium rule in place of settle_tol and its
+# continued_dt_factor 8 were added to it by hand). Then a sweep resumed with any one
 # of those options changed is refused (exit 2, the option named): resume compares every option
 # of the table by its key, those under the "solver" heading too (the lipid pair once, together).
 set -u
