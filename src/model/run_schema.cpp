@@ -258,7 +258,7 @@ const std::vector<RunOption>& table() {
        .help = "(fast) With --coarse-levels: the first relaxation at epsilon of each grid "
                "continued from a relaxed coarser one starts at dt = this times h, capped at "
                "--dt-max-factor h, instead of ramping up from --dt-factor h (0: the ramp; "
-               "--fast uses 8, the largest dt, since 2026-11-27's late change; 0 before)",
+               "--fast uses 8, the largest dt, since 2026-11-28; 0 before)",
        .unit = "h",
        .scope = S::kSolver,
        .solver_group = true,
