@@ -32,10 +32,9 @@ constexpr int kMaxGrid = 2048;
 // What --fast selects (docs/performance.md): N/2^K continuation with K <= 2 and N/2^K >= 32,
 // V-cycles to 1e-2 of each step's change, extrapolated guesses, dt growing to 8 h (a grid
 // continued from a coarser one starting there), the finest grid's V-cycles to 1e-1, and each
-// relaxation ended at an equilibrium residual of
-// fast_equilibrium_tol(N): 1e-3 at 128^3, scaled with h^2 like the grid's own spread of the
-// local H, so that the residual adds about 5 % to it at any grid (docs/method.md, "The
-// equilibrium stop rule").
+// relaxation ended at an equilibrium residual of fast_equilibrium_tol(N): 1e-3 at 128^3,
+// scaled with h^2 like the grid's own spread of the local H, so that the residual adds about
+// 5 % to it at any grid (docs/method.md, "The equilibrium stop rule").
 constexpr double kFastMgRtol = 1e-2;
 constexpr double kFastDtMaxFactor = 8.0;
 // A continued grid's first step at the largest dt (--continued-dt-factor): with the coarser
