@@ -17,3 +17,15 @@ check_usage() {
   # Nothing at all under the output name: no file, no report beside it, no temporary.
   if compgen -G "$out*" >/dev/null; then echo "FAIL: '$*' wrote $out*"; fail=1; rm -rf "$out"*; fi
 }
+# under_memory_limit <args...>: check_usage <args...> under a 1 GB address-space limit, where
+# a memory refusal must happen before any work. A sanitizer build cannot start under the limit
+# (AddressSanitizer reserves terabytes of address space): there the check is not made, and says
+# so; the Release pass makes it. (A failure inside the subshell sets its own `fail`: its exit
+# status carries it out.)
+under_memory_limit() {
+  if (ulimit -v 1000000 && "$bin" --version >/dev/null 2>&1); then
+    (ulimit -v 1000000 && check_usage "$@"; exit "$fail") || fail=1
+  else
+    echo "note: $bin does not start under ulimit -v (a sanitizer build): memory refusal not checked"
+  fi
+}
