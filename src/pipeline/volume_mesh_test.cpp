@@ -81,10 +81,13 @@ TEST(VolumeMesh, CoarseGyroidIsOnePeriodicPieceWithTheFieldsVolume) {
   EXPECT_GT(k["surface_faces"].get<long>(), 0);
   EXPECT_LE(k["pair_mismatch"].get<double>(), 1e-12);
   // Every node on a plane of the box has its image on the opposite plane, paired, and opposite
-  // planes hold as many nodes. One box-corner vertex has tets in 7 of the 8 cells around it;
-  // every move of it off faces within the snap's reach leaves a tet under the 10-degree floor
-  // (at best 3.9), so the second pass moves it (off z by half its shortest edge onto a box
-  // edge with all 4 cells, measured 6.50 deg), above kPairingFloorDeg.
+  // planes hold as many nodes. The mesh depends on the instruction set (-march=native): on
+  // an AVX-512 machine one box-corner vertex has tets in 7 of the 8 cells around it, every
+  // move of it off faces within the snap's reach leaves a tet under the 10-degree floor (at
+  // best 3.9), so the second pass moves it (off z by half its shortest edge onto a box edge
+  // with all 4 cells, measured 6.50 deg), above kPairingFloorDeg; on an AVX2 machine no
+  // vertex needs that pass. Either way a vertex moved below the floor keeps its tets above
+  // kPairingFloorDeg, and the report says how low they went only when one moved.
   const auto& cut = r["cut"];
   EXPECT_EQ(cut["lifted_vertices"], cut["one_sided_face_vertices"]);
   EXPECT_EQ(cut["face_vertices_left_unpaired"], 0);
@@ -92,8 +95,11 @@ TEST(VolumeMesh, CoarseGyroidIsOnePeriodicPieceWithTheFieldsVolume) {
   const auto& f = r["box_face_nodes"];
   for (const char* a : {"x", "y", "z"})
     EXPECT_EQ(f[std::string(a) + "_min"], f[std::string(a) + "_max"]) << a;
-  EXPECT_EQ(cut["moved_below_floor"], 1);
-  EXPECT_GE(cut["min_dihedral_below_floor_deg"].get<double>(), kPairingFloorDeg);
+  const long moved = cut["moved_below_floor"].get<long>();
+  EXPECT_LE(moved, 1);
+  EXPECT_EQ(cut["min_dihedral_below_floor_deg"].is_null(), moved == 0);
+  const double below_floor = moved ? cut["min_dihedral_below_floor_deg"].get<double>() : 180.0;
+  EXPECT_GE(below_floor, kPairingFloorDeg);
   // Refinement leaves every edge a chord of a circumsphere of radius <= size_max / 2, but the
   // perturber and exuder then move vertices and weights (measured: 6 of ~15000 edges up to
   // 12 % longer); the sizing pass splits them (mesh/tet_sizing.h), and the smoothing keeps
@@ -101,15 +107,19 @@ TEST(VolumeMesh, CoarseGyroidIsOnePeriodicPieceWithTheFieldsVolume) {
   EXPECT_GT(r["sizing"]["split_edges"].get<long>(), 0);
   EXPECT_EQ(r["edge_length"]["above_size_max"], 0);
   EXPECT_LE(r["edge_length"]["max"].get<double>(), c.params.size_max * (1 + 1e-12));
-  // The mesh repeats bit for bit (below), so this is the one number measured: 10.9 deg after
-  // the sizing and the smoothing (mesh/tet_smooth.h; 5.05 without the sizing pass), then
-  // 6.50 where the corner vertex moved, the one tet under 10 degrees.
+  // The mesh repeats bit for bit on one machine (below), not across instruction sets.
+  // Measured on AVX-512: 10.9 deg after the sizing and the smoothing (mesh/tet_smooth.h; 5.05
+  // without the sizing pass), then 6.50 where the corner vertex moved, the one tet under 10
+  // degrees. On AVX2: 6.04 after the smoothing, 4 tets of 14435 under 10 degrees.
   EXPECT_GT(r["quality"]["min_dihedral_deg"].get<double>(), 5.0);
-  EXPECT_NEAR(std::min(r["smoothing"]["min_dihedral_after_deg"].get<double>(),
-                       cut["min_dihedral_below_floor_deg"].get<double>()),
+  EXPECT_NEAR(std::min(r["smoothing"]["min_dihedral_after_deg"].get<double>(), below_floor),
               r["quality"]["min_dihedral_deg"].get<double>(), 1e-9);
-  EXPECT_EQ(r["quality"]["min_dihedral_histogram"][0]["from_deg"], 0);
-  EXPECT_EQ(r["quality"]["min_dihedral_histogram"][0]["tets"], 1);
+  const auto& histogram = r["quality"]["min_dihedral_histogram"];
+  EXPECT_EQ(histogram[0]["from_deg"], 0);
+  EXPECT_EQ(histogram[0]["to_deg"], 10);
+  long tets = 0;
+  for (const auto& bin : histogram) tets += bin["tets"].get<long>();
+  EXPECT_LE(1000 * histogram[0]["tets"].get<long>(), tets);
   // --size-min: the short edges are collapsed where the faces, the surface and the quality
   // allow (measured: 70 a cell below it after the cut, 24 collapsed, 16 left; in the block 22,
   // all on the cut, between vertices on different faces or at the quality floor, and 17 more
