@@ -25,8 +25,6 @@ struct UnionFind {
   void join(std::int64_t a, std::int64_t b) { parent[find(a)] = find(b); }
 };
 
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-
 struct FaceKey {
   std::array<std::int64_t, 3> v;
   bool operator==(const FaceKey& o) const { return v == o.v; }
