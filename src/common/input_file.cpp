@@ -1,5 +1,7 @@
 #include "common/input_file.h"
 
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -34,6 +36,16 @@ void require_regular_file(const fs::path& path, const std::string& what) {
   throw std::runtime_error(fmt::format("{} '{}' is not a regular file ({}); cmcsurf reads only "
                                        "regular files there",
                                        what, path.string(), kind_name(s.type())));
+}
+
+std::string read_input_file(const fs::path& path, const std::string& what) {
+  require_regular_file(path, what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
+  return s.str();
 }
 
 }  // namespace cmcsurf

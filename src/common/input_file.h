@@ -13,4 +13,8 @@ namespace cmcsurf {
 // the caller's own open reports it.
 void require_regular_file(const std::filesystem::path& path, const std::string& what);
 
+// The whole file at `path`, checked by require_regular_file(path, what) first; throws
+// std::runtime_error "cannot read '<path>'" when it cannot be opened or read.
+std::string read_input_file(const std::filesystem::path& path, const std::string& what);
+
 }  // namespace cmcsurf

@@ -19,6 +19,7 @@
 
 #include "common/wall_clock.h"
 #include "mesh/edge_collapse.h"
+#include "mesh/union_find.h"
 
 namespace cmcsurf {
 
@@ -27,11 +28,6 @@ namespace {
 constexpr int kMaxAttempts = 8;
 // With a tolerance, edges whose triangles meet at an interior angle under this are kept.
 constexpr double kCreaseDegrees = 135.0;
-
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
 
 }  // namespace
 

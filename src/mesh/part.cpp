@@ -11,13 +11,14 @@
 
 #include "common/wall_clock.h"
 #include "mesh/marching_tets.h"
+#include "mesh/union_find.h"
 #include "parallel/first_exception.h"
 
 namespace cmcsurf {
 
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kNoRoot = std::numeric_limits<std::uint32_t>::max();
 constexpr float kRemoved = std::numeric_limits<float>::lowest();
 constexpr int kMaxNodesPerAxis = 8192;
 
@@ -26,39 +27,31 @@ constexpr int kMaxNodesPerAxis = 8192;
 constexpr int kKuhnEdges[7][3] = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1},
                                   {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];  // path halving
-    x = parent[x];
-  }
-  return x;
-}
-
-// Union-find over the nodes where member(node) holds; returns each node's root (kNone for the
+// Union-find over the nodes where member(node) holds; returns each node's root (kNoRoot for the
 // others).
 std::vector<std::uint32_t> label_components(const PartLattice& lat,
                                             const std::function<bool(std::size_t)>& member) {
   const auto& n = lat.nodes;
-  std::vector<std::uint32_t> parent(lat.count(), kNone);
+  std::vector<std::uint32_t> parent(lat.count(), kNoRoot);
   for (std::size_t id = 0; id < parent.size(); ++id)
     if (member(id)) parent[id] = std::uint32_t(id);
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         const std::size_t id = lat.index(i, j, k);
-        if (parent[id] == kNone) continue;
+        if (parent[id] == kNoRoot) continue;
         for (const auto& e : kKuhnEdges) {
           const int ii = i + e[0], jj = j + e[1], kk = k + e[2];
           if (ii >= n[0] || jj >= n[1] || kk >= n[2]) continue;
           const std::size_t nb = lat.index(ii, jj, kk);
-          if (parent[nb] == kNone) continue;
+          if (parent[nb] == kNoRoot) continue;
           const std::uint32_t a = find_root(parent, std::uint32_t(id));
           const std::uint32_t b = find_root(parent, std::uint32_t(nb));
           if (a != b) parent[std::max(a, b)] = std::min(a, b);
         }
       }
   for (std::size_t id = 0; id < parent.size(); ++id)
-    if (parent[id] != kNone) parent[id] = find_root(parent, std::uint32_t(id));
+    if (parent[id] != kNoRoot) parent[id] = find_root(parent, std::uint32_t(id));
   return parent;
 }
 
@@ -72,13 +65,13 @@ std::map<std::uint32_t, ComponentBox> component_boxes(const PartLattice& lat,
                                                       const std::vector<std::uint32_t>& root) {
   std::map<std::uint32_t, ComponentBox> boxes;
   const auto& n = lat.nodes;
-  std::uint32_t last = kNone;
+  std::uint32_t last = kNoRoot;
   ComponentBox* b = nullptr;
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         const std::uint32_t r = root[lat.index(i, j, k)];
-        if (r == kNone) continue;
+        if (r == kNoRoot) continue;
         if (r != last) b = &boxes[r], last = r;
         ++b->nodes;
         const int at[3] = {i, j, k};
@@ -201,7 +194,7 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
         label_components(lat, [&](std::size_t id) { return lat.value(id, level) > 0.0; });
     const std::map<std::uint32_t, ComponentBox> boxes = component_boxes(lat, root);
     t.solid_components = boxes.size();
-    std::uint32_t largest = kNone;
+    std::uint32_t largest = kNoRoot;
     std::size_t most = 0;
     for (const auto& [r, b] : boxes)
       if (b.nodes > most) most = b.nodes, largest = r;
@@ -217,7 +210,7 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
         hi[c] = std::min(b.hi[c] + 2, lat.nodes[c]);
       }
       const TriMesh m = mesh_window(lat, lo, hi, [&](std::size_t id) -> double {
-        return root[id] == me || root[id] == kNone ? lat.value(id, level) : double(kRemoved);
+        return root[id] == me || root[id] == kNoRoot ? lat.value(id, level) : double(kRemoved);
       });
       t.fragment_volumes.push_back(mesh_volume(m));
       t.fragment_volume += t.fragment_volumes.back();
@@ -226,7 +219,7 @@ PartTopology clean_part(PartLattice& lat, double level, bool keep_fragments) {
     if (!keep_fragments && t.fragments > 0) {
       t.fragments_removed = true;
       for (std::size_t id = 0; id < root.size(); ++id)
-        if (root[id] != kNone && root[id] != largest) lat.removed[id] = 1;
+        if (root[id] != kNoRoot && root[id] != largest) lat.removed[id] = 1;
     }
   }
   {

@@ -134,6 +134,8 @@ TEST(Part, PorosityHitsTheTargetForSheetAndNetwork) {
 // A graded network (porosity 0.58 -> 0.42 along z over three cells) from three members
 // G + 1/2 + c (porosities 0.60, 0.50, 0.40): one closed manifold piece whose pores percolate,
 // the porosity of each cell along z within 0.03 of the ramp's value there and decreasing.
+// Without the members' morphometry (a 72^3 local thickness of both phases each, nine tenths of
+// this test's time under the sanitizers): cli.scaffold_mesh_size checks it on a graded part.
 TEST(Part, GradedPorosityFollowsTheRamp) {
   std::vector<GradedMember> members(3);
   const double offsets[3] = {-0.3, 0.0, 0.3};
@@ -146,6 +148,7 @@ TEST(Part, GradedPorosityFollowsTheRamp) {
   ScaffoldDesign d;
   d.cell_size = 1.0;
   d.size = {1.0, 1.0, 3.0};
+  d.morphometry = false;
   PorosityRamp ramp;
   ramp.from = 0.58;
   ramp.to = 0.42;
@@ -163,7 +166,7 @@ TEST(Part, GradedPorosityFollowsTheRamp) {
     }
   }
   EXPECT_NEAR(part.report["porosity"].get<double>(), 0.5, 0.01);
-  EXPECT_EQ(part.report["morphometry"]["members"].size(), 3u);
+  EXPECT_FALSE(part.report["morphometry"].contains("members"));
   ramp.from = 0.95;  // beyond the members
   EXPECT_THROW(design_graded_scaffold(members, d, ramp), std::invalid_argument);
 }

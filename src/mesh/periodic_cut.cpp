@@ -23,15 +23,9 @@ Vec3 position(const PeriodicTets& t, const Corner& c) {
   return {p[0] + c.o[0], p[1] + c.o[1], p[2] + c.o[2]};
 }
 
-// An edge of the torus: its vertex of smaller index u, the other w, and w's periods relative
-// to u's; the same key in every tet that holds the edge.
-struct EdgeKey {
-  std::int32_t u = 0, w = 0;
-  std::array<int, 3> rel{0, 0, 0};
-  bool operator==(const EdgeKey& o) const { return u == o.u && w == o.w && rel == o.rel; }
-};
+// The torus edges already cut (TorusEdge: mesh/tet_mesh.h).
 struct EdgeHash {
-  std::size_t operator()(const EdgeKey& e) const {
+  std::size_t operator()(const TorusEdge& e) const {
     std::size_t h = std::size_t(e.u) * 1000003u ^ std::size_t(e.w);
     for (int r : e.rel) h = h * 31u + std::size_t(r + 16);
     return h;
@@ -125,7 +119,7 @@ class Splitter {
   Corner cut_vertex(const Corner& b, const Corner& a, int k) {
     const Corner& u = b.v < a.v ? b : a;
     const Corner& w = b.v < a.v ? a : b;
-    EdgeKey key{u.v, w.v, {w.o[0] - u.o[0], w.o[1] - u.o[1], w.o[2] - u.o[2]}};
+    const TorusEdge key{u.v, w.v, {w.o[0] - u.o[0], w.o[1] - u.o[1], w.o[2] - u.o[2]}};
     auto [it, fresh] = cuts_.try_emplace(key);
     if (fresh) {
       const Vec3 pu = t_.vertices[std::size_t(u.v)];
@@ -204,7 +198,7 @@ class Splitter {
   PeriodicTets& t_;
   int a_;
   CellFaceCut& stats_;
-  std::unordered_map<EdgeKey, CutVertex, EdgeHash> cuts_;
+  std::unordered_map<TorusEdge, CutVertex, EdgeHash> cuts_;
   std::vector<std::array<std::int32_t, 4>>* out_tets_ = nullptr;
   std::vector<std::array<std::array<std::int8_t, 3>, 4>>* out_offsets_ = nullptr;
 };

@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "common/input_file.h"
+#include "mesh/union_find.h"
 #include "parallel/first_exception.h"
 
 namespace cmcsurf {
@@ -67,10 +68,7 @@ bool shells_may_overlap(const TriMesh& shape) {
   // Shells: components of the vertices joined by the triangles' edges (union-find).
   std::vector<std::uint32_t> parent(shape.vertices.size());
   for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
-  const auto root = [&](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  const auto root = [&](std::uint32_t v) { return find_root(parent, v); };
   for (const auto& t : shape.triangles)
     for (int e = 0; e < 2; ++e) parent[root(t[e])] = root(t[e + 1]);
   std::map<std::uint32_t, std::pair<Vec3, Vec3>> boxes;  // per shell: min, max

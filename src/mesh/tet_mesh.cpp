@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "mesh/union_find.h"
+
 namespace cmcsurf {
 
 namespace {
@@ -19,14 +21,9 @@ struct UnionFind {
   explicit UnionFind(std::size_t n) : parent(n) {
     std::iota(parent.begin(), parent.end(), std::int64_t(0));
   }
-  std::int64_t find(std::int64_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
+  std::int64_t find(std::int64_t a) { return find_root(parent, a); }
   void join(std::int64_t a, std::int64_t b) { parent[find(a)] = find(b); }
 };
-
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 struct FaceKey {
   std::array<std::int64_t, 3> v;

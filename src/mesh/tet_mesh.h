@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <compare>
 #include <cstdint>
 #include <vector>
 
@@ -34,6 +35,21 @@ struct TorusFace {
 // The faces that belong to one tetrahedron only: the boundary of the torus mesh (the solid's
 // surface), sorted by corners.
 std::vector<TorusFace> torus_boundary_faces(const PeriodicTets& t);
+
+// An edge of a torus mesh: its vertex of smaller index u, the other w, and w's periods relative
+// to u's; the same key in every tet that holds the edge.
+struct TorusEdge {
+  std::int32_t u = 0, w = 0;
+  std::array<int, 3> rel{0, 0, 0};
+  auto operator<=>(const TorusEdge&) const = default;
+};
+
+// The edge between the corners (a, periods oa) and (b, periods ob) of one tet.
+inline TorusEdge torus_edge(std::int32_t a, const std::array<int, 3>& oa, std::int32_t b,
+                            const std::array<int, 3>& ob) {
+  if (b < a) return torus_edge(b, ob, a, oa);
+  return {a, b, {ob[0] - oa[0], ob[1] - oa[1], ob[2] - oa[2]}};
+}
 
 // Node `slave` is node `master` moved by `translation` (output units): the pair a periodic
 // boundary condition ties (u_slave = u_master + E translation).

@@ -272,7 +272,6 @@ class Sizer {
     Off o{0, 0, 0};     // the centre's periods in it
   };
 
-  static double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
   template <class T>
   static void unique_sort(std::vector<T>& v) {
     std::sort(v.begin(), v.end());

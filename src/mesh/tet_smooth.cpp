@@ -22,14 +22,8 @@ Vec3 corner_position(const PeriodicTets& t, std::size_t i, int q) {
 struct Surface {
   std::vector<char> vertex;       // on a boundary face
   std::vector<std::uint8_t> face;  // per tet: bit k set when the face opposite corner k is one
-  // Boundary edges: (smaller vertex, other vertex, its offset relative to the smaller).
-  std::vector<std::pair<std::int32_t, std::pair<std::int32_t, Off>>> edges;  // sorted
+  std::vector<TorusEdge> edges;  // edges of boundary faces, sorted
 };
-using EdgeKey = std::pair<std::int32_t, std::pair<std::int32_t, Off>>;
-EdgeKey edge_key(std::int32_t u, const Off& ou, std::int32_t w, const Off& ow) {
-  if (w < u) return edge_key(w, ow, u, ou);
-  return {u, {w, {ow[0] - ou[0], ow[1] - ou[1], ow[2] - ou[2]}}};
-}
 Off offset_of(const PeriodicTets& t, std::size_t i, int q) {
   return {t.offsets[i][q][0], t.offsets[i][q][1], t.offsets[i][q][2]};
 }
@@ -44,7 +38,7 @@ Surface torus_surface(const PeriodicTets& t) {
       for (std::size_t b = a + 1; b < 3; ++b) {
         const auto& [u, ou] = f.corners[a];
         const auto& [w, ow] = f.corners[b];
-        s.edges.push_back(edge_key(u, ou, w, ow));
+        s.edges.push_back(torus_edge(u, ou, w, ow));
       }
   }
   std::sort(s.edges.begin(), s.edges.end());
@@ -274,8 +268,8 @@ SliverSmoothing smooth_slivers(PeriodicTets& t, double target_deg, int sweeps, d
       for (int q = 0; q < 4; ++q)
         if (mask & (1u << q)) k[m++] = q;
       ok = ok && !std::binary_search(surf.edges.begin(), surf.edges.end(),
-                                     edge_key(t.tets[i][k[0]], offset_of(t, i, k[0]),
-                                              t.tets[i][k[1]], offset_of(t, i, k[1])));
+                                     torus_edge(t.tets[i][k[0]], offset_of(t, i, k[0]),
+                                                t.tets[i][k[1]], offset_of(t, i, k[1])));
     } else {
       int apex = 0;
       while (mask & (1u << apex)) ++apex;

@@ -11,9 +11,9 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-namespace {
-
 double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+namespace {
 
 double triangle_area(const TriMesh& m, const std::array<std::uint32_t, 3>& t) {
   return 0.5 * norm(cross(mesh_edge(m, t[0], t[1]), mesh_edge(m, t[0], t[2])));

@@ -45,6 +45,7 @@ double mesh_area(const TriMesh& m);
 double dot(const Vec3& a, const Vec3& b);
 Vec3 sub(const Vec3& a, const Vec3& b);
 Vec3 cross(const Vec3& a, const Vec3& b);
+double norm(const Vec3& a);  // Euclidean length
 // Squared distance from p to the triangle (a, b, c).
 double point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 // Signed volume enclosed by a closed, outward-oriented, non-periodic mesh.

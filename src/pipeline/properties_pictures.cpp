@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "common/wall_clock.h"
+#include "mesh/tri_mesh.h"  // dot
 #include "properties/cell_properties.h"
 #include "properties/directional_modulus.h"
 #include "properties/power_law_fit.h"
@@ -28,8 +29,6 @@ constexpr Rgb kGreyInk{0.38f, 0.38f, 0.4f};
 constexpr Rgb kGrid{0.92f, 0.92f, 0.93f};
 constexpr Rgb kBound{0.35f, 0.35f, 0.38f};
 constexpr int kSupersample = 2;
-
-double dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The oblique view of preview.png (azimuth 30, elevation 24 degrees, z up), orthographic.
 struct View {

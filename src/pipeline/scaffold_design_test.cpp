@@ -90,7 +90,10 @@ TEST(ScaffoldDesign, TargetValuesAndPlans) {
 // The whole solve on real cells: nodal G networks at 16^3 as the members. The modulus is
 // reached within the solve's 2 % recomputed on the chosen member's cell, and the pore size
 // scales the cell size so that the chosen cell's mean pore is the target to round-off
-// (local thickness is in voxels of the cell: exactly linear in the cell size).
+// (local thickness is in voxels of the cell: exactly linear in the cell size). Under the
+// sanitizers (27-30 s) the five elastic solves take two thirds of it and the two 64^3 local
+// thicknesses the rest; coarser members save little (12^3: 28.5 s, 8^3: 25 s), since there
+// the morphometry (on 72^3 or 64^3, measuring larger pores) takes 10 and 20 s.
 TEST(ScaffoldDesign, SolvesPorosityAndCellSizeOnRealCells) {
   const int n = 16;
   const MemberAt member = [&](double porosity) {

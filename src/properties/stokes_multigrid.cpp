@@ -11,8 +11,6 @@ namespace cmcsurf::properties {
 
 namespace {
 
-inline int wrap(int i, int n) { return i < 0 ? i + n : i >= n ? i - n : i; }
-
 inline std::size_t cube(int n) { return std::size_t(n) * n * n; }
 
 // Aggregate of cell (i, j, k) of a level of size n on the next one (ceil(n / 2) per axis).

@@ -9,8 +9,6 @@ namespace cmcsurf::properties {
 
 namespace {
 
-inline int wrap(int i, int n) { return i < 0 ? i + n : i >= n ? i - n : i; }
-
 inline std::size_t index(int n, int i, int j, int k) {
   return std::size_t(n) * (std::size_t(n) * k + j) + i;
 }

@@ -27,6 +27,9 @@
 
 namespace cmcsurf::properties {
 
+// A voxel index along a periodic axis of n voxels, at most one step outside [0, n), wrapped.
+inline int wrap(int i, int n) { return i < 0 ? i + n : i >= n ? i - n : i; }
+
 // Wall distance from a fluid face (psi_p > 0) to the wall before a solid neighbour
 // (psi_q <= 0), in link lengths, unclamped: from the cut face's own distance when only one of
 // them is cut (|psi| < 1/2), else by linear interpolation.

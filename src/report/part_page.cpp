@@ -5,13 +5,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "common/wall_clock.h"
 #include "common/atomic_file.h"
+#include "common/input_file.h"
 #include "io/png.h"
 #include "report/report_html.h"
 #include "mesh/edge_collapse.h"
@@ -84,14 +83,6 @@ DrawSurface unit_cube_view(const TriMesh& m) {
   }
   s.triangles = m.triangles;
   return s;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // A row of the part's tables: a JSON pointer into FILE.json, its label and format.
@@ -472,7 +463,7 @@ double write_part_page_from_report(const fs::path& report_json) {
   const auto t0 = WallClock::now();
   nlohmann::json report;
   try {
-    report = nlohmann::json::parse(read_text(report_json));
+    report = nlohmann::json::parse(read_input_file(report_json, "input file"));
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(
         fmt::format("'{}' is not valid JSON: {}", report_json.string(), e.what()));

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,18 +26,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_text(const fs::path& path) {
-  require_regular_file(path, "input file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(fmt::format("cannot read '{}'", path.string()));
-  return s.str();
-}
-
 nlohmann::json read_json_file(const fs::path& path) {
-  const std::string text = read_text(path);
+  const std::string text = read_input_file(path, "input file");
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
@@ -91,7 +80,9 @@ nlohmann::json csv_columns(const std::string& text, const fs::path& path) {
   return columns;
 }
 
-nlohmann::json read_csv_columns(const fs::path& path) { return csv_columns(read_text(path), path); }
+nlohmann::json read_csv_columns(const fs::path& path) {
+  return csv_columns(read_input_file(path, "input file"), path);
+}
 
 // psi = atanh(2 phi - 1) of a folder's field.vti (or field.pvti), for preview_surfaces.
 Field read_psi(const fs::path& dir) {
@@ -107,7 +98,7 @@ double number_or(const nlohmann::json& j, const char* key, double fallback) {
 }
 
 std::string png_data_url(const fs::path& path) {
-  return "data:image/png;base64," + base64(read_text(path));
+  return "data:image/png;base64," + base64(read_input_file(path, "input file"));
 }
 
 // A sweep folder's sweep.json: its surfaces and volume fractions, the members' names' axes.

@@ -5,7 +5,8 @@
 # --resolution picks the grid (and is refused with --grid), the page and preview are written
 # and `cmcsurf report FILE.json` remakes them; the --min-feature warning prints once, the
 # printed lines use porosity / solid fraction / wall / pore (no alpha, volume fraction or
-# phase 1), and scripts/plot_scaffold.py draws a graded part (skipped, exit 77, without
+# phase 1); a graded part of two members has each member's morphometry in FILE.json and its
+# warnings once per phase, and scripts/plot_scaffold.py draws it (skipped, exit 77, without
 # matplotlib).
 set -u
 bin="$1"
@@ -93,14 +94,27 @@ rm "$work/a.stl.html" "$work/a.stl.png"
 [ $? -eq 2 ] && grep -q -- "--resolution: got 3" "$work/b.err" || {
   echo "FAIL: --resolution above the cell size"; cat "$work/b.err"; fail=1; }
 # A graded part's picture (KeyError: 'wall_thickness' before).
-# Its --min-feature warnings: one per phase for the part, not one per member.
+# Its --min-feature warnings: one per phase for the part, not one per member. Two members (the
+# default would be three): each member's morphometry is a 64^3 local thickness, most of this
+# test's time under the sanitizers.
 "$bin" scaffold "${common[@]}" --porosity 0.8:0.6 --axis z --size 2x2x4 --grid 16 --no-page \
-  --min-feature 3 --out "$work/graded.stl" 2> "$work/g.err" || {
+  --graded-members 2 --min-feature 3 --out "$work/graded.stl" 2> "$work/g.err" || {
   echo "FAIL: scaffold graded"; fail=1; }
 walls=$(grep -c 'thinnest wall' "$work/g.err")
 pores=$(grep -c 'narrowest pore' "$work/g.err")
 [ "$walls" -eq 1 ] && [ "$pores" -eq 1 ] || {
   echo "FAIL: a graded part's --min-feature warnings"; grep warning "$work/g.err"; fail=1; }
+# The members' morphometry (Part.GradedPorosityFollowsTheRamp builds its part without it).
+python3 - "$work/graded.stl.json" <<'PY' || { echo "FAIL: a graded part's members"; fail=1; }
+import json, sys
+g = json.load(open(sys.argv[1]))
+members = g["morphometry"]["members"]
+porosities = [round(m["porosity"], 3) for m in members]
+assert porosities == [0.8, 0.6], porosities
+for m in members:
+    assert 0 < m["wall_thickness"]["min"] <= m["wall_thickness"]["mean"], m["wall_thickness"]
+    assert 0 < m["pore_size"]["min"] <= m["pore_size"]["mean"], m["pore_size"]
+PY
 skip=0
 /usr/bin/python3 "$here/../../scripts/plot_scaffold.py" "$work/graded.stl" "$work/graded.png"
 rc=$?

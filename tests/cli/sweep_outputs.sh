@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # A small sweep writes sweep.csv (a row per member, the report's scalars as columns), one
 # folder per member and the Fig. 11 figures (when /usr/bin/python3 has matplotlib).
+# P and G: at 16^3 and epsilon 0.04 the D members flattened into two planes (area 2, H 0) after
+# seven volume corrections each, two thirds of this test's time under the sanitizers.
 set -eu
 bin="$1"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin" sweep --paper --surface P,D --volume-fractions 0.4:0.6:0.2 --grid 16 --epsilon 0.04 \
+"$bin" sweep --paper --surface P,G --volume-fractions 0.4:0.6:0.2 --grid 16 --epsilon 0.04 \
   --max-steps 100 --quiet --out "$work/s" 2>"$work/stderr" || { cat "$work/stderr"; exit 1; }
-for m in P_0.40 P_0.60 D_0.40 D_0.60; do
+for m in P_0.40 P_0.60 G_0.40 G_0.60; do
   for f in report.json field.vti history.csv curvature_histogram.csv; do
     [ -s "$work/s/$m/$f" ] || { echo "FAIL: missing $m/$f"; exit 1; }
   done
@@ -21,7 +23,7 @@ d = sys.argv[1]
 rows = list(csv.DictReader(open(f"{d}/sweep.csv")))
 assert len(rows) == 4, len(rows)
 assert [(r["surface"], float(r["volume_fraction_target"])) for r in rows] == \
-    [("P", 0.4), ("P", 0.6), ("D", 0.4), ("D", 0.6)], rows
+    [("P", 0.4), ("P", 0.6), ("G", 0.4), ("G", 0.6)], rows
 need = ["surface", "volume_fraction_target", "volume_fraction", "area", "mean_curvature",
         "mean_curvature_mu", "mean_curvature_std", "nodal_area", "nodal_mean_curvature",
         "nodal_mean_curvature_std", "nodal_area_excess", "area_iso", "nodal_area_iso",
