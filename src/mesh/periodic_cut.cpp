@@ -119,7 +119,7 @@ class Splitter {
   Corner cut_vertex(const Corner& b, const Corner& a, int k) {
     const Corner& u = b.v < a.v ? b : a;
     const Corner& w = b.v < a.v ? a : b;
-    const TorusEdge key{u.v, w.v, {w.o[0] - u.o[0], w.o[1] - u.o[1], w.o[2] - u.o[2]}};
+    const TorusEdge key = torus_edge(u.v, u.o, w.v, w.o);
     auto [it, fresh] = cuts_.try_emplace(key);
     if (fresh) {
       const Vec3 pu = t_.vertices[std::size_t(u.v)];
